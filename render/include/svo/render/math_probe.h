@@ -1,0 +1,55 @@
+// Runs the shared math of shaders/common/ on the GPU (math_probe.comp) and on
+// the CPU (the C++ build of the same source) over the same inputs, and
+// compares the two: the proof that the shaders compute what the C++ tests check.
+#pragma once
+
+#include <glm/vec4.hpp>
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "svo/render/vk_context.h"
+
+namespace svo::render {
+
+// Number of scalar outputs per input (4 rows of vec4) and their names.
+constexpr int kProbeValues = 16;
+const char* probe_value_name(int index);
+
+// A dense deterministic sweep: every (mu, sigma) of a grid of `n` x `n`
+// log-spaced values (mu in [1e-6, 1e4], sigma in [1e-6, 10]) plus the edge
+// values 0, -0, negatives and denormals; the free arguments x and y run over
+// [-12, 12] and [-1, 1].
+std::vector<glm::vec4> probe_sweep(int n);
+
+// The 16 outputs of each input, in order, from the C++ build.
+std::vector<float> probe_cpu(std::span<const glm::vec4> inputs);
+
+struct ProbeRun {
+  std::vector<float> values;  // as probe_cpu
+  double gpu_ms = -1;         // timestamp-query time of the dispatch; < 0 if unsupported
+};
+
+// The same on the device of `context`. Throws svo::vk::Error on Vulkan failures.
+ProbeRun probe_gpu(vk::Context& context, std::span<const glm::vec4> inputs);
+
+struct ProbeComparison {
+  std::size_t values = 0;        // scalars compared
+  std::size_t above_floor = 0;   // of which one side exceeds `floor` in magnitude
+  std::size_t mismatches = 0;    // relative difference above the tolerance
+  std::size_t non_finite = 0;    // NaN or Inf on either side
+  double max_relative = 0;       // largest relative difference among those above the floor
+  std::string worst;             // "name at (mu, sigma, x, y): cpu vs gpu" of the largest difference
+  std::array<double, kProbeValues> max_relative_by_value{};    // per output, indexed as probe_value_name
+  std::array<std::size_t, kProbeValues> mismatches_by_value{};
+};
+
+// Relative difference |a - b| / max(|a|, |b|) for every value where either
+// side exceeds `floor` in magnitude; below it both must be within `floor`.
+ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu,
+                              std::span<const float> gpu, double tolerance, double floor);
+
+}  // namespace svo::render

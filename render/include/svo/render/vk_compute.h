@@ -1,0 +1,76 @@
+// Host-visible storage buffers and compute kernels with storage-buffer
+// bindings and push constants: enough to run a shader over arrays and read
+// the results back.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "svo/render/vk_context.h"
+
+namespace svo::vk {
+
+// A storage buffer in host-visible, host-coherent memory, mapped for its lifetime.
+class Buffer {
+ public:
+  // Throws Error if `bytes` is 0 or exceeds the device's maxStorageBufferRange
+  // (the message names the limit), or if allocation fails.
+  Buffer(Context& context, std::size_t bytes);
+  ~Buffer();
+  Buffer(Buffer&& other) noexcept;
+  Buffer& operator=(Buffer&&) = delete;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  std::size_t size() const { return bytes_; }
+  void* data() const { return mapped_; }
+
+  template <class T>
+  std::span<T> as() const {
+    return {static_cast<T*>(mapped_), bytes_ / sizeof(T)};
+  }
+
+ private:
+  Context* context_;
+  std::size_t bytes_;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  void* mapped_ = nullptr;
+};
+
+// A compute pipeline whose set 0 holds `storage_buffers` storage buffers at
+// bindings 0..n-1, with an optional push-constant block.
+class ComputeKernel {
+ public:
+  ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
+                uint32_t push_constant_bytes);
+  ~ComputeKernel();
+  ComputeKernel(const ComputeKernel&) = delete;
+  ComputeKernel& operator=(const ComputeKernel&) = delete;
+
+  // Binds `buffers` in order, pushes `push` (push_constant_bytes long, or
+  // nullptr when there is none), dispatches and waits; shader writes are
+  // visible to the host on return. Returns the GPU time of the dispatch in
+  // milliseconds (timestamp queries), or a negative value when the queue has
+  // no timestamps.
+  double dispatch(std::span<const Buffer* const> buffers, const void* push, uint32_t groups_x,
+                  uint32_t groups_y = 1, uint32_t groups_z = 1);
+
+ private:
+  void release();  // destroys every handle created so far
+
+  Context& context_;
+  uint32_t storage_buffers_;
+  uint32_t push_bytes_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+};
+
+}  // namespace svo::vk

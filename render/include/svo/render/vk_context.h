@@ -1,0 +1,107 @@
+// Vulkan instance, device selection and a compute queue: the ground every
+// pass of the renderer stands on. Headless (no surface); lavapipe is the
+// device of last resort so that it runs on any machine.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace svo::vk {
+
+// Every Vulkan failure: the message names the call, the VkResult and the
+// source position, or the limit or missing piece that stopped us.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Name of a VkResult ("VK_ERROR_DEVICE_LOST").
+const char* result_name(VkResult result);
+
+// Throws Error("<what> failed with <result> at <file>:<line>") unless result is VK_SUCCESS.
+void check(VkResult result, const char* what, const char* file, int line);
+
+#define SVO_VK_CHECK(call) ::svo::vk::check((call), #call, __FILE__, __LINE__)
+
+struct DeviceInfo {
+  uint32_t index = 0;  // in vkEnumeratePhysicalDevices order
+  std::string name;
+  std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
+  std::string api_version;
+  uint64_t max_storage_buffer_range = 0;  // bytes
+  uint32_t max_image_dimension_3d = 0;
+  uint32_t max_compute_workgroup_invocations = 0;
+  uint32_t subgroup_size = 0;
+  uint64_t device_local_bytes = 0;
+  bool timestamps = false;         // compute queue supports timestamp queries
+  double timestamp_period_ns = 0;  // nanoseconds per timestamp tick
+};
+
+struct ContextOptions {
+  // "" picks the default: the best of discrete > integrated > virtual > cpu
+  // (lavapipe). Otherwise a device index, or a case-insensitive substring of
+  // the device name that must match exactly one device.
+  std::string device;
+  // Enable VK_LAYER_KHRONOS_validation; every message it sends is recorded
+  // (validation_messages()) so that callers can fail on any of them.
+  bool validation = false;
+};
+
+// Lists the Vulkan devices of this machine. Throws Error when Vulkan has no
+// driver or no device.
+std::vector<DeviceInfo> list_devices();
+
+// Index into `devices` chosen by `selector` (see ContextOptions::device).
+// Throws Error naming the selector and the devices when nothing or more than
+// one device matches.
+uint32_t select_device(const std::vector<DeviceInfo>& devices, const std::string& selector);
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceInfo& info() const { return info_; }
+  VkDevice device() const { return device_; }
+  VkPhysicalDevice physical_device() const { return physical_; }
+
+  // Memory type index with the requested properties among `type_bits`; throws Error if none.
+  uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
+
+  // Records commands with `record` into a fresh command buffer, submits it to
+  // the compute queue and waits for it to finish.
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+
+  // Validation messages received so far (empty without validation).
+  std::vector<std::string> validation_messages() const;
+
+ private:
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                   VkDebugUtilsMessageTypeFlagsEXT types,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                   void* user);
+  void release();  // destroys every handle created so far
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  DeviceInfo info_;
+  mutable std::mutex messages_mutex_;
+  std::vector<std::string> messages_;
+};
+
+}  // namespace svo::vk

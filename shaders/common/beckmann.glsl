@@ -1,0 +1,44 @@
+// Beckmann (Gaussian slope) microfacet BRDF whose slope variance is the
+// micro-BRDF's plus the voxel's (Heitz & Neyret section 5.5: convolving two
+// Gaussians adds variances), with the matching Smith masking of smith.glsl.
+// Directions are in the mean-normal frame; sigma2 holds per-axis slope
+// variances (alpha^2 = 2 sigma^2 per axis).
+#ifndef SVO_BECKMANN_GLSL
+#define SVO_BECKMANN_GLSL
+#include "smith.glsl"
+
+// Slope variances below this are raised to it, so that a mirror keeps a
+// finite peak (D(n) <= 1 / (2 pi 1e-8)): a lobe of about 0.006 degrees.
+SVO_CONST float SVO_MIN_SLOPE_VARIANCE = 1.0e-8f;
+
+// sigma^2 = sigma_n^2 + sigma_rho^2, floored at SVO_MIN_SLOPE_VARIANCE.
+SVO_FN vec2 svo_total_slope_variance(vec2 sigma_n2, vec2 sigma_rho2) {
+  return max(sigma_n2 + sigma_rho2, vec2(SVO_MIN_SLOPE_VARIANCE));
+}
+
+// Beckmann NDF for a unit micronormal m: D(m) = P22(-mx/mz, -my/mz) / mz^4 with
+// P22 the 2D Gaussian slope density; int D(m) m.z dm = 1. Zero below the plane.
+SVO_FN float svo_beckmann_d(vec3 m, vec2 sigma2) {
+  if (!(m.z > 0.0f)) return 0.0f;
+  vec2 s2 = max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
+  float z2 = m.z * m.z;
+  float e = (m.x * m.x / s2.x + m.y * m.y / s2.y) / (2.0f * z2);
+  return exp(-e) / (2.0f * SVO_PI * sqrt(s2.x * s2.y) * z2 * z2);
+}
+
+// Cook-Torrance specular lobe without Fresnel:
+//   f(v, l) = D(h) G2(v, l) / (4 (n.v) (n.l)),
+// height-correlated Smith G2 with the same (floored) variances as D.
+// Zero when v or l is at or below the mean plane; symmetric in v and l.
+SVO_FN float svo_specular_brdf(vec3 v, vec3 l, vec2 sigma2) {
+  if (!(v.z > 0.0f) || !(l.z > 0.0f)) return 0.0f;
+  vec3 h = v + l;
+  float hl = length(h);
+  if (!(hl > 0.0f)) return 0.0f;
+  h = h / hl;
+  vec2 s2 = max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
+  float g2 = svo_smith_g2(svo_smith_lambda_dir(v, s2), svo_smith_lambda_dir(l, s2));
+  return svo_beckmann_d(h, s2) * g2 / (4.0f * v.z * l.z);
+}
+
+#endif

@@ -1,0 +1,22 @@
+// The dialect of shaders/common/: a subset of GLSL 4.60 that also compiles as
+// C++20 with GLM (see shared_math.h). Rules for the files here:
+//  - functions are declared SVO_FN, constants SVO_CONST;
+//  - float literals carry the f suffix (C++ would otherwise compute in double);
+//  - no arrays, no out/inout parameters: return a struct filled field by field;
+//  - GLSL built-ins only where GLM has the same name and meaning.
+#ifndef SVO_PRELUDE_GLSL
+#define SVO_PRELUDE_GLSL
+
+#ifdef __cplusplus
+#define SVO_FN inline
+#define SVO_CONST constexpr
+#else
+#define SVO_FN
+#define SVO_CONST const
+#endif
+
+SVO_CONST float SVO_PI = 3.14159265358979f;
+SVO_CONST float SVO_SQRT_PI = 1.77245385090552f;
+SVO_CONST float SVO_SQRT2 = 1.41421356237310f;
+
+#endif

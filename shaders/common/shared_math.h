@@ -1,0 +1,17 @@
+// C++ entry to the math of shaders/common/: the same source the shaders
+// include, compiled as C++ with GLM (the dialect is described in prelude.glsl).
+// Everything lands in namespace svo::math.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace svo::math {
+using namespace glm;
+#include "beckmann.glsl"
+#include "cone_mask.glsl"
+#include "erf.glsl"
+#include "prelude.glsl"
+#include "probe.glsl"
+#include "smith.glsl"
+#include "trig.glsl"
+}  // namespace svo::math

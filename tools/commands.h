@@ -1,0 +1,13 @@
+// The subcommands of `svo`. Each add_* registers one on the app; its callback
+// runs the command and stores the process exit code in `exit_code`. Errors
+// reach main() as exceptions and become one line on stderr with exit code 1.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace svo::tools {
+
+void add_devices_command(CLI::App& app, int& exit_code);
+void add_selftest_command(CLI::App& app, int& exit_code);
+
+}  // namespace svo::tools

@@ -1,0 +1,35 @@
+// svo: pre-filtered sparse voxel octree engine, command line.
+#include <exception>
+#include <iostream>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "svo: render detailed surfaces from a pre-filtered sparse voxel octree (Heitz & Neyret 2012).\n"
+      "Run 'svo COMMAND --help' for the options of a command."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "svo 0.1.0");
+  int exit_code = 0;
+  svo::tools::add_devices_command(app, exit_code);
+  svo::tools::add_selftest_command(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << "svo 0.1.0\n";
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "svo: " << e.what() << " (see svo --help)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "svo: " << e.what() << "\n";
+    return 1;
+  }
+  return exit_code;
+}
