@@ -55,6 +55,10 @@ Buffer::~Buffer() {
 ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
                              uint32_t push_constant_bytes)
     : context_(context), storage_buffers_(storage_buffers), push_bytes_(push_constant_bytes) {
+  if (spirv.empty() || spirv[0] != 0x07230203u) {
+    throw Error("Vulkan: compute kernel given " + std::to_string(spirv.size()) +
+                " words that are not a SPIR-V module (no magic number)");
+  }
   VkDevice device = context.device();
   struct Cleanup {
     ComputeKernel* self;

@@ -1,8 +1,8 @@
 // erf and erfc in float (GLSL has neither).
 // Contract, checked by tests/numerics/erf_test.cpp over [-12, 12]:
 //  - absolute error of svo_erf and svo_erfc at most 2e-7 against std::erf/erfc;
-//  - for x >= 0, svo_erfc has relative error below 1e-6 until it underflows
-//    (x >= 10 returns 0), which svo_smith_lambda relies on.
+//  - for x >= 0, svo_erfc has relative error below 1e-6 until it leaves
+//    float's normal range (x >= 10 returns 0); tails of g(h) rely on it.
 // Coefficients: scripts/fit_erfc.py (Maclaurin series below 0.84375, a refitted
 // Numerical-Recipes-style form t * exp(-x^2 + Q(t)) above).
 #ifndef SVO_ERF_GLSL
@@ -51,10 +51,14 @@ SVO_FN float svo_erfcx_large(float x) {
 }
 
 // erfc(x) for x >= SVO_ERF_SPLIT, relative accuracy; 0 from x = 10 on (erfc(10) < 2.1e-45).
+// exp(-x^2) is split as exp(-z^2) exp((z - x)(z + x)) with z = x cut to 12
+// significant bits, so that z^2 is exact: a rounded x^2 near 81 would cost
+// 5e-6 relative (ulp(81) / 2).
 SVO_FN float svo_erfc_large(float x) {
   if (x >= 10.0f) return 0.0f;
   float t = 1.0f / (1.0f + 0.5f * x);
-  return t * exp(svo_erfc_q(t) - x * x);
+  float z = uintBitsToFloat(floatBitsToUint(x) & 0xFFFFF000u);
+  return t * exp(-z * z) * exp((z - x) * (z + x) + svo_erfc_q(t));
 }
 
 SVO_FN float svo_erfc(float x) {

@@ -64,7 +64,8 @@ SVO_FN float svo_smith_lambda(float mu, float sigma) {
 SVO_FN float svo_smith_lambda_cos(float cos_theta, float sigma) {
   float c = clamp(cos_theta, -1.0f, 1.0f);
   if (!(c > 0.0f)) return SVO_LAMBDA_MAX;
-  float sin_sigma = sqrt(max(0.0f, 1.0f - c * c)) * sigma;
+  // (1 - c)(1 + c): exact 1 - c near c = 1, where 1 - c * c would lose sin(theta).
+  float sin_sigma = sqrt(max(0.0f, (1.0f - c) * (1.0f + c))) * sigma;
   if (!(sin_sigma > 0.0f)) return 0.0f;
   return svo_smith_lambda_a(c / (SVO_SQRT2 * sin_sigma));
 }
