@@ -5,7 +5,8 @@ Needs mpmath (Debian: python3-mpmath); not part of the build. Run it to check
 or refit the constants; it prints them in the order the GLSL Horner loops use.
 
 - |x| < 0.84375: erf(x) = x * P(x^2), P the Maclaurin series of erf(x)/x to
-  z^10 (truncation error below 5e-10 on the range).
+  z^10 (truncation error below 5e-10 on the range); the shader sums it as
+  x + x (P - 1), with c0 - 1 printed last.
 - x >= 0.84375:  erfc(x) = t * exp(-x^2 + Q(t)), t = 1 / (1 + x/2), Q a
   Chebyshev fit of degree 10 of log(erfcx(x) / t) over t in [0, 1/(1+0.421875)]
   (the form of Numerical Recipes' erfcc, refitted on the narrower range).
@@ -31,6 +32,7 @@ def main():
     print("erf small, c0..c10 (z = x^2):")
     for c in small:
         print("  %.9ef" % float(c))
+    print("  c0 - 1 = %.9ef" % float(small[0] - 1))
     t0 = 1 / (1 + P * X0)
     coeffs, err = mp.chebyfit(q_target, [0, t0], 11, error=True)
     print("erfc large, Q(t) highest degree first, max abs error %.2e:" % float(err))

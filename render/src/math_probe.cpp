@@ -12,11 +12,22 @@
 namespace svo::render {
 
 const char* probe_value_name(int index) {
-  static const char* const names[kProbeValues] = {
-      "erf",        "erfc",     "height_cdf",    "height_sigmoid",  //
-      "lambda",     "lambda_a", "g1",            "attribute_vl",    //
-      "lambda_dir", "beckmann", "specular_brdf", "lambda_cos",      //
-      "mask_theta", "mask_v",   "mask_coverage", "erfcx"};
+  static const char* const names[kProbeValues] = {"erf",
+                                                  "erfc",
+                                                  "height_cdf",
+                                                  "height_sigmoid",  //
+                                                  "lambda",
+                                                  "lambda_a",
+                                                  "g1",
+                                                  "attribute_vl",  //
+                                                  "lambda_dir",
+                                                  "beckmann",
+                                                  "specular_brdf",
+                                                  "lambda_cos",  //
+                                                  "mask_theta",
+                                                  "mask_v",
+                                                  "mask_coverage",
+                                                  "erfcx"};
   return index >= 0 && index < kProbeValues ? names[index] : "?";
 }
 
@@ -73,8 +84,8 @@ ProbeRun probe_gpu(vk::Context& context, std::span<const glm::vec4> inputs) {
   return run;
 }
 
-ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu,
-                              std::span<const float> gpu, double tolerance, double floor) {
+ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu, std::span<const float> gpu,
+                              double tolerance, double floor) {
   ProbeComparison result;
   size_t n = std::min({cpu.size(), gpu.size(), inputs.size() * kProbeValues});
   for (size_t i = 0; i < n; ++i) {
@@ -107,8 +118,8 @@ ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const
       const glm::vec4& in = inputs[i / kProbeValues];
       std::ostringstream text;
       text.precision(9);
-      text << probe_value_name(value) << " at (mu, sigma, x, y) = (" << in.x << ", " << in.y << ", "
-           << in.z << ", " << in.w << "): cpu " << a << " vs gpu " << b;
+      text << probe_value_name(value) << " at (mu, sigma, x, y) = (" << in.x << ", " << in.y << ", " << in.z << ", "
+           << in.w << "): cpu " << a << " vs gpu " << b;
       result.worst = text.str();
     }
   }

@@ -39,8 +39,8 @@ const char* result_name(VkResult result) {
 void check(VkResult result, const char* what, const char* file, int line) {
   if (result == VK_SUCCESS) return;
   std::ostringstream out;
-  out << "Vulkan: " << what << " failed with " << result_name(result) << " (" << int(result) << ") at "
-      << file << ":" << line;
+  out << "Vulkan: " << what << " failed with " << result_name(result) << " (" << int(result) << ") at " << file << ":"
+      << line;
   if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY) out << ": the device is out of memory";
   if (result == VK_ERROR_DEVICE_LOST) out << ": the device was lost (driver reset or crash)";
   throw Error(out.str());
@@ -234,8 +234,7 @@ uint32_t select_device(const std::vector<DeviceInfo>& devices, const std::string
 
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT,
-                                                   const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                                   void* user) {
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   auto* self = static_cast<Context*>(user);
   const char* level = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT)     ? "error"
                       : (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) ? "warning"

@@ -1,10 +1,11 @@
 // Device selection, limits and the validation plumbing of the Vulkan harness.
+#include "svo/render/vk_context.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "svo/render/vk_compute.h"
-#include "svo/render/vk_context.h"
 
 namespace {
 using svo::vk::DeviceInfo;

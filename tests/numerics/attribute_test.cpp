@@ -70,8 +70,7 @@ std::string l_name(const ::testing::TestParamInfo<double>& info) {
   return text;
 }
 
-INSTANTIATE_TEST_SUITE_P(PaperValues, AttributeEq17, ::testing::Values(0.0, 0.01, 0.1, 1.0, 10.0, 100.0, 1e6),
-                         l_name);
+INSTANTIATE_TEST_SUITE_P(PaperValues, AttributeEq17, ::testing::Values(0.0, 0.01, 0.1, 1.0, 10.0, 100.0, 1e6), l_name);
 
 // The whole chain from (mu, sigma) of view and light: our Lambdas give L,
 // Eq. 17 gives abar(v, l), Monte Carlo of Eq. 15 with that L must agree.

@@ -39,8 +39,7 @@ TEST(Erf, AbsoluteErrorWithin2e7OnMinus12To12) {
   RecordProperty("max_abs_error_erfc", std::to_string(worst_erfc));
   EXPECT_LE(worst_erf, 2e-7) << "at x = " << at_erf;
   EXPECT_LE(worst_erfc, 2e-7) << "at x = " << at_erfc;
-  std::printf("max |erf error| %.3g at %.9g, max |erfc error| %.3g at %.9g\n", worst_erf, at_erf, worst_erfc,
-              at_erfc);
+  std::printf("max |erf error| %.3g at %.9g, max |erfc error| %.3g at %.9g\n", worst_erf, at_erf, worst_erfc, at_erfc);
 }
 
 // Smith Lambda subtracts erfc from a nearby term: erfc must be accurate

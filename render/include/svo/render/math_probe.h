@@ -3,10 +3,9 @@
 // compares the two: the proof that the shaders compute what the C++ tests check.
 #pragma once
 
-#include <glm/vec4.hpp>
-
 #include <array>
 #include <cstddef>
+#include <glm/vec4.hpp>
 #include <span>
 #include <string>
 #include <vector>
@@ -37,19 +36,19 @@ struct ProbeRun {
 ProbeRun probe_gpu(vk::Context& context, std::span<const glm::vec4> inputs);
 
 struct ProbeComparison {
-  std::size_t values = 0;        // scalars compared
-  std::size_t above_floor = 0;   // of which one side exceeds `floor` in magnitude
-  std::size_t mismatches = 0;    // relative difference above the tolerance
-  std::size_t non_finite = 0;    // NaN or Inf on either side
-  double max_relative = 0;       // largest relative difference among those above the floor
-  std::string worst;             // "name at (mu, sigma, x, y): cpu vs gpu" of the largest difference
-  std::array<double, kProbeValues> max_relative_by_value{};    // per output, indexed as probe_value_name
+  std::size_t values = 0;       // scalars compared
+  std::size_t above_floor = 0;  // of which one side exceeds `floor` in magnitude
+  std::size_t mismatches = 0;   // relative difference above the tolerance
+  std::size_t non_finite = 0;   // NaN or Inf on either side
+  double max_relative = 0;      // largest relative difference among those above the floor
+  std::string worst;            // "name at (mu, sigma, x, y): cpu vs gpu" of the largest difference
+  std::array<double, kProbeValues> max_relative_by_value{};  // per output, indexed as probe_value_name
   std::array<std::size_t, kProbeValues> mismatches_by_value{};
 };
 
 // Relative difference |a - b| / max(|a|, |b|) for every value where either
 // side exceeds `floor` in magnitude; below it both must be within `floor`.
-ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu,
-                              std::span<const float> gpu, double tolerance, double floor);
+ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu, std::span<const float> gpu,
+                              double tolerance, double floor);
 
 }  // namespace svo::render

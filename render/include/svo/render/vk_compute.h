@@ -55,8 +55,8 @@ class ComputeKernel {
   // visible to the host on return. Returns the GPU time of the dispatch in
   // milliseconds (timestamp queries), or a negative value when the queue has
   // no timestamps.
-  double dispatch(std::span<const Buffer* const> buffers, const void* push, uint32_t groups_x,
-                  uint32_t groups_y = 1, uint32_t groups_z = 1);
+  double dispatch(std::span<const Buffer* const> buffers, const void* push, uint32_t groups_x, uint32_t groups_y = 1,
+                  uint32_t groups_z = 1);
 
  private:
   void release();  // destroys every handle created so far

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Sets up a fresh Debian 12 machine for svo and builds it (Release, -j2).
+# Idempotent: packages already present are not reinstalled, and a configured
+# build tree is reused. Run as root (or with sudo available).
+#   scripts/setup.sh            install packages, configure, build into build/
+#   BUILD_DIR=out scripts/setup.sh   the same into another folder
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
+
+# Debian packages, one reason each.
+PACKAGES=(
+  cmake ninja-build g++ ccache pkg-config  # build
+  libglm-dev                               # vector math shared by C++ and GLSL
+  libvulkan-dev glslang-tools              # Vulkan loader and headers, GLSL -> SPIR-V
+  mesa-vulkan-drivers                      # lavapipe, the CPU Vulkan device
+  vulkan-validationlayers                  # Khronos validation, on in the tests
+  libcli11-dev nlohmann-json3-dev          # command line, JSON output
+  libgtest-dev libgmock-dev                # tests
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    SUDO="sudo"
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ ! -f "$BUILD_DIR/build.ninja" ]; then
+  cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
+fi
+cmake --build "$BUILD_DIR" -j2
+echo "setup: built $BUILD_DIR/svo"
