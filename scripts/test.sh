@@ -1,9 +1,21 @@
 #!/usr/bin/env bash
-# Sets up (scripts/setup.sh) and runs the whole test suite with CTest.
-# Extra arguments go to ctest, e.g. scripts/test.sh -L numerics
+# Sets up (scripts/setup.sh) and runs the whole test suite with CTest, twice:
+# the Release build in build/, then an AddressSanitizer + UndefinedBehaviorSanitizer
+# build in build-asan/ (any report fails the test). Extra arguments go to ctest,
+# e.g. scripts/test.sh -L numerics. SVO_SKIP_SANITIZE=1 skips the second pass.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 "$ROOT/scripts/setup.sh"
-cd "$BUILD_DIR"
-ctest -j2 --output-on-failure --timeout 600 "$@"
+(cd "$BUILD_DIR" && ctest -j2 --output-on-failure --timeout 600 "$@")
+
+if [ "${SVO_SKIP_SANITIZE:-0}" != 1 ]; then
+  ASAN_DIR="$ROOT/build-asan"
+  if [ ! -f "$ASAN_DIR/build.ninja" ]; then
+    cmake -S "$ROOT" -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSVO_SANITIZE=ON
+  fi
+  cmake --build "$ASAN_DIR" -j2
+  echo "test: the same suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+  (cd "$ASAN_DIR" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+     ctest -j2 --output-on-failure --timeout 900 "$@")
+fi
