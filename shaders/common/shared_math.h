@@ -12,6 +12,7 @@ using namespace glm;
 #include "erf.glsl"
 #include "prelude.glsl"
 #include "probe.glsl"
+#include "voxel_codec.glsl"
 #include "smith.glsl"
 #include "trig.glsl"
 }  // namespace svo::math

@@ -1,0 +1,80 @@
+// Compact encodings of the octree's voxel channels (octree/octree.h,
+// Encoding), decoded by the renderer and encoded by the voxelizer. Packed
+// values are passed as uint (low bits first); bytes are little-endian.
+#ifndef SVO_VOXEL_CODEC_GLSL
+#define SVO_VOXEL_CODEC_GLSL
+#include "prelude.glsl"
+
+// Octahedral map of a unit vector to [-1, 1]^2 (Meyer et al. 2010).
+SVO_FN vec2 svo_oct_wrap(vec2 v) {
+  return (vec2(1.0f) - abs(vec2(v.y, v.x))) * vec2(v.x >= 0.0f ? 1.0f : -1.0f, v.y >= 0.0f ? 1.0f : -1.0f);
+}
+
+// Oct24: two 12-bit coordinates; worst angular error about 0.03 degrees.
+SVO_FN uint svo_encode_oct24(vec3 n) {
+  vec3 a = abs(n);
+  float l1 = a.x + a.y + a.z;
+  if (!(l1 > 0.0f)) return 2047u | (2047u << 12u);  // no direction: +z
+  vec2 p = vec2(n.x, n.y) / l1;
+  if (n.z < 0.0f) p = svo_oct_wrap(p);
+  vec2 q = clamp(p * 0.5f + vec2(0.5f), vec2(0.0f), vec2(1.0f)) * 4095.0f + vec2(0.5f);
+  return uint(q.x) | (uint(q.y) << 12u);
+}
+
+SVO_FN vec3 svo_decode_oct24(uint bits) {
+  vec2 p = vec2(float(bits & 4095u), float((bits >> 12u) & 4095u)) / 4095.0f * 2.0f - vec2(1.0f);
+  vec3 n = vec3(p.x, p.y, 1.0f - abs(p.x) - abs(p.y));
+  if (n.z < 0.0f) {
+    vec2 w = svo_oct_wrap(vec2(n.x, n.y));
+    n.x = w.x;
+    n.y = w.y;
+  }
+  return normalize(n);
+}
+
+// U8Relative: x / scale in [0, 1].
+SVO_FN uint svo_encode_u8_relative(float x, float scale) {
+  return uint(clamp(x / scale, 0.0f, 1.0f) * 255.0f + 0.5f);
+}
+SVO_FN float svo_decode_u8_relative(uint b, float scale) {
+  return float(b & 255u) / 255.0f * scale;
+}
+
+// U8Slope: a slope deviation s >= 0 as s / (1 + s): fine steps for smooth
+// surfaces (1/255 near 0), still finite for very rough ones (s <= 254).
+SVO_FN uint svo_encode_u8_slope(float s) {
+  float t = max(s, 0.0f) / (1.0f + max(s, 0.0f));
+  return min(uint(t * 255.0f + 0.5f), 254u);
+}
+SVO_FN float svo_decode_u8_slope(uint b) {
+  float t = float(b & 255u) / 255.0f;
+  return t / (1.0f - t);
+}
+
+// Signed8: x in [-1, 1] as a two's-complement byte of round(127 x).
+SVO_FN uint svo_encode_s8(float x) {
+  int i = int(floor(clamp(x, -1.0f, 1.0f) * 127.0f + 0.5f));
+  return uint(i) & 255u;
+}
+SVO_FN float svo_decode_s8(uint b) {
+  int i = int(b & 255u);
+  if (i > 127) i -= 256;
+  return max(float(i) / 127.0f, -1.0f);
+}
+
+// Srgb8: linear [0, 1] through the sRGB transfer function.
+SVO_FN float svo_linear_to_srgb(float c) {
+  c = clamp(c, 0.0f, 1.0f);
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * pow(c, 1.0f / 2.4f) - 0.055f;
+}
+SVO_FN float svo_srgb_to_linear(float s) {
+  return s <= 0.04045f ? s / 12.92f : pow((s + 0.055f) / 1.055f, 2.4f);
+}
+SVO_FN uint svo_encode_srgb8(float c) {
+  return uint(svo_linear_to_srgb(c) * 255.0f + 0.5f);
+}
+SVO_FN float svo_decode_srgb8(uint b) {
+  return svo_srgb_to_linear(float(b & 255u) / 255.0f);
+}
+
+#endif
