@@ -17,6 +17,7 @@ PACKAGES=(
   mesa-vulkan-drivers                      # lavapipe, the CPU Vulkan device
   vulkan-validationlayers                  # Khronos validation, on in the tests
   libcli11-dev nlohmann-json3-dev          # command line, JSON output
+  libxxhash-dev                            # XXH64 checksums of the .svo file
   libgtest-dev libgmock-dev                # tests
 )
 

@@ -24,8 +24,8 @@ const char* encoding_name(Encoding encoding) {
   switch (encoding) {
     case Encoding::F32: return "f32";
     case Encoding::Oct24: return "oct24";
-    case Encoding::U8Relative: return "u8_relative";
-    case Encoding::U8Slope: return "u8_slope";
+    case Encoding::U8LogRelative: return "u8_log_relative";
+    case Encoding::U8LogSlope: return "u8_log_slope";
     case Encoding::Cov3x8: return "cov3x8";
     case Encoding::Srgb8: return "srgb8";
     case Encoding::Signed8: return "s8x3";
@@ -37,8 +37,8 @@ uint32_t encoding_bytes(Encoding encoding) {
   switch (encoding) {
     case Encoding::F32: return 4;
     case Encoding::Oct24: return 3;
-    case Encoding::U8Relative: return 1;
-    case Encoding::U8Slope: return 1;
+    case Encoding::U8LogRelative: return 1;
+    case Encoding::U8LogSlope: return 1;
     case Encoding::Cov3x8: return 3;
     case Encoding::Srgb8: return 3;
     case Encoding::Signed8: return 3;
@@ -50,8 +50,8 @@ bool encoding_fits(Channel channel, Encoding encoding) {
   switch (channel) {
     case Channel::Distance: return encoding == Encoding::F32;
     case Channel::Normal: return encoding == Encoding::Oct24;
-    case Channel::HeightDev: return encoding == Encoding::U8Relative || encoding == Encoding::F32;
-    case Channel::SlopeDev: return encoding == Encoding::U8Slope || encoding == Encoding::F32;
+    case Channel::HeightDev: return encoding == Encoding::U8LogRelative || encoding == Encoding::F32;
+    case Channel::SlopeDev: return encoding == Encoding::U8LogSlope || encoding == Encoding::F32;
     case Channel::SlopeCov: return encoding == Encoding::Cov3x8;
     case Channel::Colour: return encoding == Encoding::Srgb8;
     case Channel::ColourSlope: return encoding == Encoding::Signed8;
@@ -106,16 +106,16 @@ void encode_voxel(Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth,
         put3(p, bits & 255u, (bits >> 8) & 255u, (bits >> 16) & 255u);
         break;
       }
-      case Encoding::U8Relative:
-        p[0] = uint8_t(svo_encode_u8_relative(v.sigma_h, height_scale(tree, depth)));
+      case Encoding::U8LogRelative:
+        p[0] = uint8_t(svo_encode_u8_log_relative(v.sigma_h, height_scale(tree, depth)));
         break;
-      case Encoding::U8Slope:
-        p[0] = uint8_t(svo_encode_u8_slope(std::sqrt(std::max(0.0f, 0.5f * (v.slope_cov.x + v.slope_cov.y)))));
+      case Encoding::U8LogSlope:
+        p[0] = uint8_t(svo_encode_u8_log_slope(std::sqrt(std::max(0.0f, 0.5f * (v.slope_cov.x + v.slope_cov.y)))));
         break;
       case Encoding::Cov3x8: {
         float sx = std::sqrt(std::max(0.0f, v.slope_cov.x)), sy = std::sqrt(std::max(0.0f, v.slope_cov.y));
         float rho = sx > 0 && sy > 0 ? v.slope_cov.z / (sx * sy) : 0.0f;
-        put3(p, svo_encode_u8_slope(sx), svo_encode_u8_slope(sy), svo_encode_s8(rho));
+        put3(p, svo_encode_u8_log_slope(sx), svo_encode_u8_log_slope(sy), svo_encode_s8(rho));
         break;
       }
       case Encoding::Srgb8:
@@ -147,16 +147,16 @@ Voxel decode_voxel(const Octree& tree, uint64_t brick, uint32_t sample, uint32_t
       case Encoding::Oct24:
         v.nbar = svo_decode_oct24(uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16));
         break;
-      case Encoding::U8Relative:
-        v.sigma_h = svo_decode_u8_relative(p[0], height_scale(tree, depth));
+      case Encoding::U8LogRelative:
+        v.sigma_h = svo_decode_u8_log_relative(p[0], height_scale(tree, depth));
         break;
-      case Encoding::U8Slope: {
-        float s = svo_decode_u8_slope(p[0]);
+      case Encoding::U8LogSlope: {
+        float s = svo_decode_u8_log_slope(p[0]);
         v.slope_cov = glm::vec3(s * s, s * s, 0.0f);
         break;
       }
       case Encoding::Cov3x8: {
-        float sx = svo_decode_u8_slope(p[0]), sy = svo_decode_u8_slope(p[1]), rho = svo_decode_s8(p[2]);
+        float sx = svo_decode_u8_log_slope(p[0]), sy = svo_decode_u8_log_slope(p[1]), rho = svo_decode_s8(p[2]);
         v.slope_cov = glm::vec3(sx * sx, sy * sy, rho * sx * sy);
         break;
       }

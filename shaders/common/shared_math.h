@@ -10,6 +10,7 @@ using namespace glm;
 #include "beckmann.glsl"
 #include "cone_mask.glsl"
 #include "erf.glsl"
+#include "frame.glsl"
 #include "prelude.glsl"
 #include "probe.glsl"
 #include "voxel_codec.glsl"

@@ -32,23 +32,26 @@ SVO_FN vec3 svo_decode_oct24(uint bits) {
   return normalize(n);
 }
 
-// U8Relative: x / scale in [0, 1].
-SVO_FN uint svo_encode_u8_relative(float x, float scale) {
-  return uint(clamp(x / scale, 0.0f, 1.0f) * 255.0f + 0.5f);
+// U8LogRelative: x / scale on a log2 scale, 16 steps per octave over
+// [2^-15.9, 1] (relative error within +-2.2%), 0 stored as 0.
+SVO_FN uint svo_encode_u8_log_relative(float x, float scale) {
+  float r = x / scale;
+  if (!(r > 0.0f)) return 0u;
+  float b = 255.0f + 16.0f * log2(min(r, 1.0f));
+  return uint(clamp(floor(b + 0.5f), 1.0f, 255.0f));
 }
-SVO_FN float svo_decode_u8_relative(uint b, float scale) {
-  return float(b & 255u) / 255.0f * scale;
+SVO_FN float svo_decode_u8_log_relative(uint b, float scale) {
+  b = b & 255u;
+  return b == 0u ? 0.0f : scale * exp2((float(b) - 255.0f) / 16.0f);
 }
 
-// U8Slope: a slope deviation s >= 0 as s / (1 + s): fine steps for smooth
-// surfaces (1/255 near 0), still finite for very rough ones (s <= 254).
-SVO_FN uint svo_encode_u8_slope(float s) {
-  float t = max(s, 0.0f) / (1.0f + max(s, 0.0f));
-  return min(uint(t * 255.0f + 0.5f), 254u);
+// U8LogSlope: a slope deviation s on a log2 scale, 16 steps per octave over
+// [2^-11.9, 16] (relative error within +-2.2%), 0 stored as 0.
+SVO_FN uint svo_encode_u8_log_slope(float s) {
+  return svo_encode_u8_log_relative(s, 16.0f);
 }
-SVO_FN float svo_decode_u8_slope(uint b) {
-  float t = float(b & 255u) / 255.0f;
-  return t / (1.0f - t);
+SVO_FN float svo_decode_u8_log_slope(uint b) {
+  return svo_decode_u8_log_relative(b, 16.0f);
 }
 
 // Signed8: x in [-1, 1] as a two's-complement byte of round(127 x).

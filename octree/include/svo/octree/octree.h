@@ -40,9 +40,9 @@ enum class Channel : uint32_t {
 enum class Encoding : uint32_t {
   F32 = 1,         // 1 float
   Oct24 = 2,       // unit vector, octahedral map, 2 x 12 bits
-  U8Relative = 3,  // value / voxel_size in [0, 1], 8 bits (HeightDev)
-  U8Slope = 4,     // slope deviation s as s / (1 + s), 8 bits (SlopeDev)
-  Cov3x8 = 5,      // (sx, sy, rho): two U8Slope deviations and a correlation in [-1, 1]
+  U8LogRelative = 3,  // value / voxel_size, log2 scale, 16 steps per octave down from 1 (HeightDev)
+  U8LogSlope = 4,     // slope deviation, log2 scale, 16 steps per octave down from 16 (SlopeDev)
+  Cov3x8 = 5,         // (sx, sy, rho): two U8LogSlope deviations and a correlation in [-1, 1]
   Srgb8 = 6,       // RGB in [0, 1], sRGB transfer, 3 x 8 bits
   Signed8 = 7,     // RGB in [-1, 1], 3 x 8 bits
 };

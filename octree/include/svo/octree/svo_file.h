@@ -1,0 +1,161 @@
+// The .svo file: one octree (octree.h) on disk, written atomically, loaded
+// with every count and offset validated, and readable in place through a
+// read-only memory map (DESIGN section 7).
+//
+// Layout, version 1. All integers little-endian, floats IEEE-754 binary32.
+// Offsets are bytes from the start of the file.
+//
+//   header, 128 bytes at offset 0
+//     off size  field
+//       0    8  magic "SVOCTREE"
+//       8    4  u32 version = 1
+//      12    4  u32 header_bytes = 128
+//      16    4  u32 brick_size        power of two in [2, 32]
+//      20    4  u32 depth_count       [1, 16]; brick_size << (depth_count - 1) <= 65536
+//      24   12  f32 origin[3]         finite
+//      36    4  f32 size              finite, > 0
+//      40    4  f32 sigma_rho2        finite, >= 0
+//      44   12  f32 constant_colour[3] finite
+//      56    4  u32 channel_count     [0, 16]
+//      60    4  u32 reserved = 0
+//      64    8  u64 node_count        in [1, 2^32 - 1)
+//      72    8  u64 brick_count       <= node_count
+//      80    8  u64 channel_table_offset  8-aligned, >= 128
+//      88    8  u64 depth_table_offset    8-aligned, >= end of channel table
+//      96    8  u64 node_table_offset     64-aligned, >= end of depth table
+//     104    8  u64 file_bytes        the size of the whole file
+//     112    8  u64 payload_checksum  XXH64 (seed 0) of bytes [128, file_bytes)
+//     120    8  u64 header_checksum   XXH64 (seed 0) of bytes [0, 120)
+//   channel table, channel_count entries of 32 bytes
+//       0    4  u32 channel           Channel, unique within the file
+//       4    4  u32 encoding          Encoding, encoding_fits(channel, encoding)
+//       8    4  u32 bytes_per_sample  = encoding_bytes(encoding)
+//      12    4  u32 reserved = 0
+//      16    8  u64 data_offset       64-aligned; channel i starts at or after the end of channel i - 1
+//      24    8  u64 data_bytes        = brick_count * (brick_size + 1)^3 * bytes_per_sample
+//   depth table, depth_count + 1 entries of u32: Octree::depth_first_node
+//   node table, node_count entries of 8 bytes: u32 children, u32 brick (Node)
+//   brick data, one section per channel in table order, each 64-aligned:
+//     brick b's samples are bytes [b * samples_per_brick * bytes_per_sample, ...)
+//     of the section, x-fastest, then y, then z.
+// Sections come in this order and do not overlap. The writer places them back
+// to back at the smallest aligned offset and fills the gaps with zeros; the
+// reader accepts any placement that obeys the rules above and ignores the
+// gaps (the payload checksum covers them).
+// A flipped byte anywhere is caught by one of the two checksums.
+//
+// Tree rules the reader checks (and the writer refuses to break):
+// depth_first_node[0] = 0, [1] = 1 (one root), non-decreasing, last =
+// node_count, and every depth below the root holds whole tiles of 8 nodes.
+// A node's `children` is kNone or the start of a tile (a multiple of 8 from
+// the start of its depth) at the NEXT depth, so the tree has no cycles; no
+// tile has two parents. A node's `brick` is kNone or < brick_count, and no
+// brick belongs to two nodes.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "svo/octree/octree.h"
+
+namespace svo::octree {
+
+// Any problem reading or writing a .svo file. The message is one line that
+// starts with the path and says what is wrong.
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Checks the invariants of an in-memory octree that the file format relies on
+// (header ranges, channels, brick data sizes, and the tree rules above).
+// @throw std::invalid_argument naming the first broken rule.
+void validate_octree(const Octree& tree);
+
+// Writes `tree` to `path`: the bytes go to a temporary file in the same
+// directory (`path` + ".tmp-<pid>-<n>"), which is flushed to disk and then
+// renamed over `path`. A crash or an error never leaves a partial file under
+// `path` nor alters an existing one; on error the temporary is removed.
+// @throw std::invalid_argument when validate_octree(tree) fails (nothing is written).
+// @throw FileError "<path>: cannot write: <step>: <strerror>" on any I/O failure.
+void write_svo(const std::string& path, const Octree& tree);
+
+// A validated .svo image held in memory by someone else. Safe for untrusted
+// input: the constructor checks every field, count, offset and both checksums
+// before anything is exposed, and never reads outside `bytes`. The spans it
+// hands out point into `bytes`, which must outlive the view.
+class SvoView {
+ public:
+  // @param bytes  the whole file; bytes.data() aligned to 4 (mmap and
+  //               operator new are), else std::invalid_argument.
+  // @param name   used in error messages (normally the path).
+  // @throw FileError "<name>: <what is wrong>", one line.
+  SvoView(std::span<const uint8_t> bytes, std::string name);
+
+  const std::string& name() const { return name_; }
+  uint64_t file_bytes() const { return bytes_.size(); }
+  uint32_t version() const { return 1; }
+
+  // The header's scalar fields, channels and depth table, as an Octree with
+  // no nodes and no brick data (its brick_count is set).
+  const Octree& shape() const { return shape_; }
+  uint32_t brick_size() const { return shape_.brick_size; }
+  uint32_t depth_count() const { return shape_.depth_count; }
+  const std::vector<ChannelInfo>& channels() const { return shape_.channels; }
+  const std::vector<uint32_t>& depth_first_node() const { return shape_.depth_first_node; }
+  uint64_t brick_count() const { return shape_.brick_count; }
+  uint64_t voxel_count() const { return shape_.voxel_count(); }
+
+  std::span<const Node> nodes() const { return nodes_; }
+  // Channel c's whole brick pool, as stored; c < channels().size().
+  std::span<const uint8_t> brick_data(size_t c) const { return brick_data_.at(c); }
+  // One brick of channel c: samples_per_brick() * encoding_bytes bytes.
+  // @throw std::out_of_range when c or brick is out of range.
+  std::span<const uint8_t> brick(size_t c, uint64_t brick) const;
+  // Where channel c's pool starts in the file (for reading bricks on demand).
+  uint64_t brick_data_offset(size_t c) const { return brick_offsets_.at(c); }
+
+  // A full in-memory copy.
+  Octree copy() const;
+
+ private:
+  std::span<const uint8_t> bytes_;
+  std::string name_;
+  Octree shape_;
+  std::span<const Node> nodes_;
+  std::vector<std::span<const uint8_t>> brick_data_;
+  std::vector<uint64_t> brick_offsets_;
+};
+
+// A .svo file mapped read-only and validated (as SvoView). The mapping lives
+// as long as this object; the file must not be truncated in place while
+// mapped (write_svo replaces files by rename, which is safe).
+class MappedSvo {
+ public:
+  // @throw FileError "<path>: <what is wrong>" (cannot open, not a regular
+  //        file, or any validation failure of SvoView).
+  explicit MappedSvo(const std::string& path);
+  ~MappedSvo();
+  MappedSvo(MappedSvo&& other) noexcept;
+  MappedSvo& operator=(MappedSvo&&) = delete;
+  MappedSvo(const MappedSvo&) = delete;
+  MappedSvo& operator=(const MappedSvo&) = delete;
+
+  const SvoView& view() const { return *view_; }
+  const SvoView* operator->() const { return view_.get(); }
+
+ private:
+  void* map_ = nullptr;
+  size_t map_bytes_ = 0;
+  std::unique_ptr<SvoView> view_;
+};
+
+// Reads and validates `path` (through MappedSvo) and returns a copy.
+// Safe for untrusted input. @throw FileError as MappedSvo.
+Octree load_svo(const std::string& path);
+
+}  // namespace svo::octree

@@ -1,0 +1,205 @@
+// Writing .svo files: temporary file, streamed payload with its checksum,
+// header last, fsync, rename.
+#include <fcntl.h>
+#include <unistd.h>
+#include <xxhash.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include "svo/octree/svo_file.h"
+#include "svo_format.h"
+
+namespace svo::octree {
+
+namespace {
+
+using namespace format;
+
+[[noreturn]] void io_fail(const std::string& path, const std::string& step, int err) {
+  throw FileError(path + ": cannot write: " + step + ": " + std::strerror(err));
+}
+
+// The temporary file: created exclusively; removed on destruction unless
+// committed by rename.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& path) : path_(path) {
+    static std::atomic<unsigned> counter{0};
+    tmp_ = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd_ < 0) io_fail(path_, "creating " + tmp_, errno);
+  }
+  ~TempFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!committed_) ::unlink(tmp_.c_str());
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+
+  int fd() const { return fd_; }
+  const std::string& name() const { return tmp_; }
+
+  // fsync, close, rename over the final path, then fsync the directory so
+  // that the rename itself is durable (best effort: some file systems refuse).
+  void commit() {
+    if (::fsync(fd_) != 0) io_fail(path_, "fsync " + tmp_, errno);
+    int fd = std::exchange(fd_, -1);
+    if (::close(fd) != 0) io_fail(path_, "closing " + tmp_, errno);
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0) io_fail(path_, "renaming " + tmp_, errno);
+    committed_ = true;
+    std::filesystem::path dir = std::filesystem::path(path_).parent_path();
+    int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      ::fsync(dfd);
+      ::close(dfd);
+    }
+  }
+
+ private:
+  std::string path_, tmp_;
+  int fd_ = -1;
+  bool committed_ = false;
+};
+
+// Buffered sequential writer that hashes what it writes.
+class Stream {
+ public:
+  Stream(const TempFile& file, const std::string& path) : file_(file), path_(path), state_(XXH64_createState()) {
+    if (!state_) throw std::bad_alloc();
+    XXH64_reset(state_.get(), 0);
+    buffer_.reserve(kBuffer);
+  }
+  void put(const void* data, size_t n) {
+    if (n == 0) return;
+    XXH64_update(state_.get(), data, n);
+    offset_ += n;
+    const uint8_t* p = static_cast<const uint8_t*>(data);
+    if (buffer_.size() + n > kBuffer) flush();
+    if (n >= kBuffer) return write_all(p, n);
+    buffer_.insert(buffer_.end(), p, p + n);
+  }
+  void pad_to(uint64_t offset) {
+    static const uint8_t zeros[kDataAlign] = {};
+    while (offset_ < offset) put(zeros, size_t(std::min<uint64_t>(offset - offset_, sizeof zeros)));
+  }
+  void flush() {
+    write_all(buffer_.data(), buffer_.size());
+    buffer_.clear();
+  }
+  uint64_t offset() const { return offset_; }
+  uint64_t digest() const { return XXH64_digest(state_.get()); }
+
+ private:
+  static constexpr size_t kBuffer = size_t(1) << 20;
+  struct FreeState {
+    void operator()(XXH64_state_t* s) const { XXH64_freeState(s); }
+  };
+  void write_all(const uint8_t* p, size_t n) {
+    while (n > 0) {
+      ssize_t w = ::write(file_.fd(), p, n);
+      if (w < 0 && errno == EINTR) continue;
+      if (w < 0) io_fail(path_, "writing " + file_.name(), errno);
+      if (w == 0) io_fail(path_, "writing " + file_.name(), ENOSPC);
+      p += w, n -= size_t(w);
+    }
+  }
+  const TempFile& file_;
+  const std::string& path_;
+  std::unique_ptr<XXH64_state_t, FreeState> state_;
+  std::vector<uint8_t> buffer_;
+  uint64_t offset_ = kHeaderBytes;  // the header is written last, at offset 0
+};
+
+}  // namespace
+
+void validate_octree(const Octree& t) {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("invalid octree: " + why); };
+  if (std::string why = check_shape(t); !why.empty()) fail(why);
+  if (t.depth_first_node.size() != size_t(t.depth_count) + 1) {
+    fail("depth_first_node has " + std::to_string(t.depth_first_node.size()) +
+         " entries, depth_count + 1 = " + std::to_string(t.depth_count + 1));
+  }
+  if (t.brick_data.size() != t.channels.size()) {
+    fail("brick_data has " + std::to_string(t.brick_data.size()) + " pools for " + std::to_string(t.channels.size()) +
+         " channels");
+  }
+  if (t.nodes.size() >= kNone || t.brick_count > t.nodes.size()) {
+    fail(std::to_string(t.nodes.size()) + " nodes and " + std::to_string(t.brick_count) +
+         " bricks (need nodes < 2^32 - 1 and bricks <= nodes)");
+  }
+  for (size_t c = 0; c < t.channels.size(); ++c) {
+    uint64_t expected = t.brick_count * t.samples_per_brick() * encoding_bytes(t.channels[c].encoding);
+    if (t.brick_data[c].size() != expected) {
+      fail(channel_label(c, t.channels[c]) + ": brick_data has " + std::to_string(t.brick_data[c].size()) +
+           " bytes, brick_count * samples_per_brick * bytes = " + std::to_string(expected));
+    }
+  }
+  if (std::string why = check_tree(t.depth_first_node, t.nodes, t.brick_count); !why.empty()) fail(why);
+}
+
+void write_svo(const std::string& path, const Octree& tree) {
+  validate_octree(tree);
+  const Layout layout = plan_layout(tree);
+
+  TempFile file(path);
+  Stream out(file, path);
+  // Header placeholder: the real one needs the payload checksum.
+  if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.name(), errno);
+
+  for (size_t c = 0; c < tree.channels.size(); ++c) {
+    const ChannelInfo& info = tree.channels[c];
+    uint8_t entry[kChannelEntryBytes];
+    encode_channel({uint32_t(info.channel), uint32_t(info.encoding), encoding_bytes(info.encoding), 0,
+                    layout.data_offset[c], layout.data_bytes[c]},
+                   entry);
+    out.put(entry, sizeof entry);
+  }
+  out.pad_to(layout.depth_table);
+  for (uint32_t first : tree.depth_first_node) {
+    uint8_t b[4];
+    put_u32(b, first);
+    out.put(b, 4);
+  }
+  out.pad_to(layout.node_table);
+  out.put(tree.nodes.data(), tree.nodes.size() * kNodeBytes);  // little-endian host (svo_format.cpp)
+  for (size_t c = 0; c < tree.channels.size(); ++c) {
+    out.pad_to(layout.data_offset[c]);
+    out.put(tree.brick_data[c].data(), tree.brick_data[c].size());
+  }
+  out.pad_to(layout.file_bytes);
+  out.flush();
+
+  Header h;
+  h.brick_size = tree.brick_size;
+  h.depth_count = tree.depth_count;
+  for (int i = 0; i < 3; ++i) h.origin[i] = tree.origin[i], h.constant_colour[i] = tree.constant_colour[i];
+  h.size = tree.size;
+  h.sigma_rho2 = tree.sigma_rho2;
+  h.channel_count = uint32_t(tree.channels.size());
+  h.node_count = tree.nodes.size();
+  h.brick_count = tree.brick_count;
+  h.channel_table_offset = layout.channel_table;
+  h.depth_table_offset = layout.depth_table;
+  h.node_table_offset = layout.node_table;
+  h.file_bytes = layout.file_bytes;
+  h.payload_checksum = out.digest();
+  uint8_t header[kHeaderBytes];
+  encode_header(h, header);
+  put_u64(header + at::header_checksum, checksum({header, at::header_checksum}));
+  for (size_t done = 0; done < kHeaderBytes;) {
+    ssize_t w = ::pwrite(file.fd(), header + done, kHeaderBytes - done, off_t(done));
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) io_fail(path, "writing " + file.name(), w < 0 ? errno : ENOSPC);
+    done += size_t(w);
+  }
+  file.commit();
+}
+
+}  // namespace svo::octree

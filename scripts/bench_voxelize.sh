@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Voxelizer cost against OpenVDB's own mesh-to-level-set conversion of the
+# same mesh at the same voxel size, in the same run (docs/RESULTS.md).
+#   scripts/bench_voxelize.sh [RESOLUTION...]      default: 512 1024
+# Needs the build (scripts/setup.sh); installs libcgal-demo (the Stanford
+# bunny), libopenvdb-tools (vdb_tool) and time if missing.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+SVO="${SVO:-$ROOT/build/svo}"
+RESOLUTIONS=("$@")
+[ ${#RESOLUTIONS[@]} -eq 0 ] && RESOLUTIONS=(512 1024)
+
+need=()
+for p in libcgal-demo libopenvdb-tools time; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
+done
+if ((${#need[@]})); then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+
+WORK="$(mktemp -d)"
+trap 'rm -rf "$WORK"' EXIT
+tar xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$WORK" data/meshes/bunny00.off
+OFF="$WORK/data/meshes/bunny00.off"
+# vdb_tool reads OBJ, not OFF: the same vertices and triangles.
+awk 'NR==1{next} NR==2{nv=$1; nf=$2; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
+  "$OFF" > "$WORK/bunny.obj"
+
+rss_mb() { awk '/Maximum resident set size/ {printf "%.0f", $6/1024}' "$1"; }
+wall_s() { awk -F': ' '/Elapsed \(wall clock\)/ {n=split($2,t,":"); s=0; for(i=1;i<=n;i++) s=s*60+t[i]; printf "%.2f", s}' "$1"; }
+
+echo "| resolution | svo voxelize s | peak MiB | voxels | bytes/voxel | vdb_tool mesh2ls s | peak MiB | time ratio |"
+echo "|---|---|---|---|---|---|---|---|"
+for r in "${RESOLUTIONS[@]}"; do
+  /usr/bin/time -v "$SVO" voxelize "$OFF" --resolution "$r" -o "$WORK/bunny.svo" --json > "$WORK/svo.json" 2> "$WORK/svo.time"
+  # Our lattice spans resolution voxels with a margin of 4 on each side: the
+  # mesh's largest dimension is resolution - 8 voxels.
+  /usr/bin/time -v vdb_tool -read "$WORK/bunny.obj" -mesh2ls dim=$((r - 8)) -write "$WORK/bunny.vdb" > /dev/null 2> "$WORK/vdb.time"
+  python3 - "$r" "$WORK/svo.json" "$(wall_s "$WORK/svo.time")" "$(rss_mb "$WORK/svo.time")" \
+    "$(wall_s "$WORK/vdb.time")" "$(rss_mb "$WORK/vdb.time")" <<'PY'
+import json, sys
+r, path, svo_s, svo_mb, vdb_s, vdb_mb = sys.argv[1:]
+j = json.load(open(path))
+print(f"| {r} | {float(svo_s):.2f} | {svo_mb} | {j['voxels']:,} | {j['bytes_per_voxel']:.2f} | {float(vdb_s):.2f} | {vdb_mb} | {float(svo_s)/float(vdb_s):.2f} |")
+PY
+done

@@ -1,0 +1,242 @@
+// The loader on untrusted bytes: truncated, flipped, forged and absurd files
+// are each one FileError naming the file, never a crash or a wrong tree.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <random>
+
+#include "svo/octree/svo_file.h"
+#include "svo_format.h"
+#include "test_trees.h"
+
+namespace svo::octree {
+namespace {
+
+using format::get_u32;
+using format::put_u32;
+using format::put_u64;
+namespace at = format::at;
+
+class SvoCorrupt : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    write_svo(dir_ / "good.svo", testing::make_test_tree(9));
+    good_ = testing::read_bytes(dir_ / "good.svo");
+    header_ = format::decode_header(good_.data());
+  }
+
+  // Writes `bytes` as bad.svo and expects load_svo to throw a FileError whose
+  // message starts with the path and contains `what`.
+  void expect_rejected(const std::vector<uint8_t>& bytes, const std::string& what) {
+    std::string path = dir_ / "bad.svo";
+    testing::write_bytes(path, bytes);
+    try {
+      load_svo(path);
+      ADD_FAILURE() << "accepted a file that should fail with '" << what << "'";
+    } catch (const FileError& e) {
+      std::string message = e.what();
+      EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+      EXPECT_NE(message.find(what), std::string::npos) << "expected '" << what << "' in: " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
+
+  // Applies `edit` to a copy of the good file, recomputes both checksums so
+  // that validation (not the checksum) must catch it, and expects `what`.
+  void expect_forged_rejected(const std::function<void(std::vector<uint8_t>&)>& edit, const std::string& what) {
+    std::vector<uint8_t> bytes = good_;
+    edit(bytes);
+    format::seal(bytes);
+    expect_rejected(bytes, what);
+  }
+
+  uint8_t* node(std::vector<uint8_t>& b, size_t i) { return b.data() + header_.node_table_offset + 8 * i; }
+  uint8_t* channel(std::vector<uint8_t>& b, size_t c) { return b.data() + header_.channel_table_offset + 32 * c; }
+  uint8_t* depth(std::vector<uint8_t>& b, size_t d) { return b.data() + header_.depth_table_offset + 4 * d; }
+
+  testing::TempDir dir_;
+  std::vector<uint8_t> good_;
+  format::Header header_;
+};
+
+TEST_F(SvoCorrupt, GoodFileLoads) { EXPECT_NO_THROW(load_svo(dir_ / "good.svo")); }
+
+TEST_F(SvoCorrupt, EveryTruncationIsRejected) {
+  std::string path = dir_ / "cut.svo";
+  std::filesystem::copy_file(dir_ / "good.svo", path);
+  for (uint64_t size = good_.size(); size-- > 0;) {
+    std::filesystem::resize_file(path, size);
+    try {
+      MappedSvo mapped(path);
+      FAIL() << "accepted the file cut to " << size << " bytes";
+    } catch (const FileError& e) {
+      ASSERT_NE(std::string(e.what()).find(path + ": truncated: "), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST_F(SvoCorrupt, TruncationMessageNamesSection) {
+  std::vector<uint8_t> cut(good_.begin(), good_.begin() + long(header_.node_table_offset + 8));
+  expect_rejected(cut, "truncated: node table needs 200 bytes at offset " + std::to_string(header_.node_table_offset) +
+                           ", file has " + std::to_string(cut.size()));
+  expect_rejected({good_.begin(), good_.begin() + 100}, "truncated: header needs 128 bytes at offset 0, file has 100");
+  expect_rejected({}, "truncated: header needs 128 bytes at offset 0, file has 0");
+}
+
+TEST_F(SvoCorrupt, EveryFlippedByteIsRejected) {
+  std::vector<uint8_t> bytes = good_;  // operator new: aligned for SvoView
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    for (uint8_t mask : {uint8_t(0x01), uint8_t(0x80)}) {
+      bytes[i] ^= mask;
+      EXPECT_THROW(SvoView(bytes, "flip.svo"), FileError) << "byte " << i << " ^ " << int(mask);
+      bytes[i] ^= mask;
+    }
+  }
+  EXPECT_NO_THROW(SvoView(bytes, "flip.svo"));
+}
+
+TEST_F(SvoCorrupt, FlippedBytesInFileNameTheCause) {
+  std::vector<uint8_t> bytes = good_;
+  bytes[header_.node_table_offset + 3] ^= 0x10;
+  expect_rejected(bytes, "corrupt data: checksum");
+  bytes = good_;
+  bytes[at::brick_count] ^= 0x01;
+  expect_rejected(bytes, "corrupt header: checksum");
+  bytes = good_;
+  bytes.back() ^= 0x40;
+  expect_rejected(bytes, "corrupt data: checksum");
+}
+
+TEST_F(SvoCorrupt, WrongMagicAndVersion) {
+  std::vector<uint8_t> bytes = good_;
+  bytes[0] = 'X';
+  bytes[7] = 0;
+  expect_rejected(bytes, "not an .svo file (magic is 'XVOCTRE\\x00', expected 'SVOCTREE')");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 2); }, "unsupported version 2");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 0); }, "unsupported version 0");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::header_bytes, 64); }, "header_bytes is 64");
+}
+
+TEST_F(SvoCorrupt, AbsurdHeaderValues) {
+  auto u32 = [](size_t offset, uint32_t v) { return [=](std::vector<uint8_t>& b) { put_u32(b.data() + offset, v); }; };
+  auto u64 = [](size_t offset, uint64_t v) { return [=](std::vector<uint8_t>& b) { put_u64(b.data() + offset, v); }; };
+  auto f32 = [](size_t offset, float v) {
+    return [=](std::vector<uint8_t>& b) { format::put_f32(b.data() + offset, v); };
+  };
+  expect_forged_rejected(u64(at::node_count, uint64_t(1) << 40), "node_count is 1099511627776");
+  expect_forged_rejected(u64(at::node_count, 0), "node_count is 0");
+  expect_forged_rejected(u64(at::node_count, 5000), "truncated: node table needs 40000 bytes");
+  expect_forged_rejected(u64(at::brick_count, 26), "brick_count 26 exceeds node_count 25");
+  expect_forged_rejected(u64(at::brick_count, uint64_t(1) << 40), "brick_count 1099511627776 exceeds");
+  expect_forged_rejected(u32(at::brick_size, 3), "brick_size is 3");
+  expect_forged_rejected(u32(at::brick_size, 0), "brick_size is 0");
+  expect_forged_rejected(u32(at::brick_size, 64), "brick_size is 64");
+  expect_forged_rejected(u32(at::depth_count, 99), "depth_count is 99");
+  expect_forged_rejected(u32(at::depth_count, 0), "depth_count is 0");
+  expect_forged_rejected(u32(at::depth_count, 16), "finest resolution");  // 4 << 15 > 65536
+  expect_forged_rejected(u32(at::channel_count, 17), "channel_count is 17");
+  expect_forged_rejected(u32(at::channel_count, 0xFFFFFFFFu), "channel_count is 4294967295");
+  expect_forged_rejected(u32(at::reserved, 1), "reserved header field");
+  expect_forged_rejected(f32(at::origin + 4, NAN), "origin[1] is nan");
+  expect_forged_rejected(f32(at::origin, INFINITY), "origin[0] is inf");
+  expect_forged_rejected(f32(at::size, -1.0f), "size is -1");
+  expect_forged_rejected(f32(at::size, 0.0f), "size is 0");
+  expect_forged_rejected(f32(at::size, INFINITY), "size is inf");
+  expect_forged_rejected(f32(at::sigma_rho2, -0.5f), "sigma_rho2 is -0.5");
+  expect_forged_rejected(f32(at::constant_colour + 8, NAN), "constant_colour[2] is nan");
+}
+
+TEST_F(SvoCorrupt, SectionsOutOfPlace) {
+  auto u64 = [](size_t offset, uint64_t v) { return [=](std::vector<uint8_t>& b) { put_u64(b.data() + offset, v); }; };
+  const uint64_t far = uint64_t(1) << 40, huge = ~uint64_t(63);  // huge + size overflows
+  expect_forged_rejected(u64(at::node_table, far), "truncated: node table needs 200 bytes at offset 1099511627776");
+  expect_forged_rejected(u64(at::node_table, huge), "truncated: node table needs 200 bytes at offset");
+  expect_forged_rejected(u64(at::channel_table, ~uint64_t(7)), "truncated: channel table needs 224 bytes");
+  expect_forged_rejected(u64(at::depth_table, far), "truncated: depth table needs 16 bytes");
+  expect_forged_rejected(u64(at::depth_table, header_.depth_table_offset + 4), "not a multiple of 8");
+  expect_forged_rejected(u64(at::node_table, header_.node_table_offset + 8), "not a multiple of 64");
+  expect_forged_rejected(u64(at::channel_table, 64), "overlaps the previous section, which ends at 128");
+  expect_forged_rejected(u64(at::node_table, header_.node_table_offset - 64), "node table offset");
+  expect_forged_rejected(u64(at::file_bytes, good_.size() + 1), "truncated: header records");
+  expect_forged_rejected(u64(at::file_bytes, good_.size() - 1), "but its header records");
+  expect_forged_rejected([](auto& b) { b.insert(b.end(), 64, 0); }, "but its header records");
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 3) + 16, far); },
+                         "channel 3 (slope_dev) brick data needs 1125 bytes at offset 1099511627776");
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 3) + 16, get_u32(channel(b, 2) + 16)); },
+                         "channel 3 (slope_dev) brick data offset");
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 6) + 24, 3 * 125 * 9 + 3); },
+                         "channel 6 (colour_slope): data_bytes is 3378, expected");
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 0) + 24, ~uint64_t(0)); }, "data_bytes is");
+}
+
+TEST_F(SvoCorrupt, BadChannelTable) {
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 2), 99); }, "channel 2: unknown channel id 99");
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 2), 0); }, "unknown channel id 0");
+  expect_forged_rejected(
+      [&](auto& b) {
+        put_u32(channel(b, 2), uint32_t(Channel::Distance));  // a valid (channel, encoding) pair, twice
+        put_u32(channel(b, 2) + 4, uint32_t(Encoding::F32));
+      },
+      "channel 2 (distance): same channel as channel 0");
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 1) + 4, 1); }, "encoding f32 cannot store this channel");
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 1) + 4, 42); }, "unknown encoding id 42");
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 1) + 8, 4); }, "bytes_per_sample is 4, oct24 has 3");
+  expect_forged_rejected([&](auto& b) { put_u32(channel(b, 1) + 12, 7); }, "channel 1 (normal): reserved field");
+}
+
+TEST_F(SvoCorrupt, BadDepthTable) {
+  expect_forged_rejected([&](auto& b) { put_u32(depth(b, 1), 2); }, "depth table starts 0, 2");
+  expect_forged_rejected([&](auto& b) { put_u32(depth(b, 0), 1); }, "depth table starts 1, 1");
+  expect_forged_rejected([&](auto& b) { put_u32(depth(b, 2), 8); }, "depth 1 spans nodes [1, 8)");
+  expect_forged_rejected([&](auto& b) { put_u32(depth(b, 2), 30); }, "depth 1 spans nodes [1, 30)");
+  expect_forged_rejected([&](auto& b) { put_u32(depth(b, 3), 17); }, "depth table ends at 17 but there are 25 nodes");
+}
+
+TEST_F(SvoCorrupt, BadNodes) {
+  auto children = [&](size_t i, uint32_t v) { return [=, this](auto& b) { put_u32(node(b, i), v); }; };
+  auto brick = [&](size_t i, uint32_t v) { return [=, this](auto& b) { put_u32(node(b, i) + 4, v); }; };
+  expect_forged_rejected(children(0, 0), "node 0 (depth 0): children 0 is not a tile start at depth 1");
+  expect_forged_rejected(children(1, 1), "node 1 (depth 1): children 1 is not a tile start");  // itself: a cycle
+  expect_forged_rejected(children(9, 1), "node 9 (depth 2): children 1 is not a tile start at depth 3 (there is none)");
+  expect_forged_rejected(children(2, 25),
+                         "children 25 is not a tile start at depth 2 (tiles start at 9 + 8k, below 25)");
+  expect_forged_rejected(children(2, 0xFFFFFFF0u), "children 4294967280");
+  expect_forged_rejected(children(1, 10), "children 10 is not a tile start");
+  expect_forged_rejected(children(2, 9), "node 2 (depth 1): children 9 already belong to another node");
+  expect_forged_rejected(brick(3, 9), "node 3 (depth 1): brick 9 out of range (brick_count 9)");
+  expect_forged_rejected(brick(3, 0), "node 3 (depth 1): brick 0 already belongs to another node");
+  expect_forged_rejected(brick(20, 0xFFFFFFFEu), "brick 4294967294 out of range");
+}
+
+// Random edits to the tables with the checksums recomputed: every outcome is
+// either a valid tree (which the writer accepts too) or a FileError.
+TEST_F(SvoCorrupt, ResealedRandomEditsNeverCrash) {
+  std::mt19937_64 rng(2024);
+  const size_t tables_end = header_.node_table_offset + 25 * 8;
+  int rejected = 0, accepted = 0;
+  for (int round = 0; round < 3000; ++round) {
+    std::vector<uint8_t> bytes = good_;
+    int edits = 1 + int(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      size_t at = rng() % 4 ? rng() % tables_end : rng() % bytes.size();
+      bytes[at] = rng() % 2 ? uint8_t(rng()) : uint8_t(bytes[at] ^ (1u << (rng() % 8)));
+    }
+    if (rng() % 8 == 0) bytes.resize(rng() % bytes.size());
+    if (bytes.size() >= format::kHeaderBytes) format::seal(bytes);
+    try {
+      SvoView view(bytes, "edit.svo");
+      EXPECT_NO_THROW(validate_octree(view.copy())) << "round " << round;
+      ++accepted;
+    } catch (const FileError& e) {
+      ASSERT_EQ(std::string(e.what()).rfind("edit.svo: ", 0), 0u) << e.what();
+      ++rejected;
+    }
+  }
+  EXPECT_GT(rejected, 2500);
+  EXPECT_GT(accepted, 0);  // edits of float fields and brick bytes stay valid
+}
+
+}  // namespace
+}  // namespace svo::octree

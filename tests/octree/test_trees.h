@@ -1,0 +1,46 @@
+// Synthetic octrees and file helpers for the octree tests.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "svo/octree/octree.h"
+
+namespace svo::octree::testing {
+
+// Every channel, each in a different encoding: together they use every Encoding.
+std::vector<ChannelInfo> all_encodings();
+
+// A 3-depth tree (root, one full tile, two tiles at depth 2) with 9 bricks
+// assigned out of order, the channels of all_encodings() and deterministic
+// pseudo-random brick bytes drawn from `seed`.
+Octree make_test_tree(uint64_t seed = 1, uint32_t brick_size = 4);
+
+// The smallest useful tree: brick_size 2, one root with brick 0, one F32
+// distance channel holding sample i = 0.25 i - 1.
+Octree make_tiny_tree();
+
+// Fills `bytes` deterministically from `seed` (splitmix64).
+void fill_random(std::vector<uint8_t>& bytes, uint64_t seed);
+
+std::vector<uint8_t> read_bytes(const std::filesystem::path& path);
+void write_bytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes);
+
+// A fresh directory under the system temporary directory, removed with its
+// contents on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace svo::octree::testing

@@ -1,0 +1,147 @@
+// svo voxelize: a mesh or a built-in scene to a pre-filtered .svo octree.
+#include <sys/resource.h>
+
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "progress.h"
+#include "svo/octree/svo_file.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/mesh.h"
+#include "svo/voxelizer/scenes.h"
+
+namespace svo::tools {
+
+namespace {
+
+struct VoxelizeArgs {
+  std::string input;
+  std::string scene;
+  std::string output;
+  uint32_t resolution = 256;
+  uint32_t brick = 8;
+  double max_memory_mb = 0;
+  std::vector<float> colour;
+  float roughness = -1;
+  bool json = false;
+};
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+}
+
+// MemAvailable from /proc/meminfo, in MiB (0 if unknown).
+double available_memory_mb() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kb = 0;
+  std::string unit;
+  while (meminfo >> key >> kb >> unit) {
+    if (key == "MemAvailable:") return kb / 1024.0;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_voxelize_command(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand("voxelize", "Build a pre-filtered sparse voxel octree from a mesh or a built-in scene");
+  auto a = std::make_shared<VoxelizeArgs>();
+  auto* input = cmd->add_option("input", a->input, "Mesh file: OBJ, PLY, OFF or STL")->group("Input");
+  auto* scene = cmd->add_option("--scene", a->scene, "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, grooved-cylinder")
+                    ->group("Input");
+  input->excludes(scene);
+  cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed)")
+      ->required()
+      ->group("Output");
+  cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis: a power of two")
+      ->default_val(256)
+      ->check(CLI::Range(16u, 4096u))
+      ->group("Octree");
+  cmd->add_option("--brick", a->brick, "Lattice cells per brick edge: 4, 8 or 16")
+      ->default_val(8)
+      ->check(CLI::IsMember({4u, 8u, 16u}))
+      ->group("Octree");
+  cmd->add_option("--colour", a->colour, "Constant colour R,G,B in [0, 1] for meshes without colours")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->group("Appearance");
+  cmd->add_option("--roughness", a->roughness,
+                  "Micro-BRDF slope deviation sigma_rho (default: the mesh material's, else 0.1)")
+      ->check(CLI::Range(0.0f, 4.0f))
+      ->group("Appearance");
+  cmd->add_option("--max-memory", a->max_memory_mb, "Refuse to start above this estimated memory, MiB (default: available memory)")
+      ->check(CLI::PositiveNumber)
+      ->group("Limits");
+  cmd->add_flag("--json", a->json, "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
+  cmd->callback([a, &exit_code] {
+    if (a->input.empty() == a->scene.empty()) throw std::invalid_argument("voxelize: give a mesh file or --scene NAME");
+    std::unique_ptr<voxelizer::SurfaceSource> source;
+    std::string what = a->input.empty() ? "scene " + a->scene : a->input;
+    if (!a->scene.empty()) {
+      auto s = voxelizer::make_scene(a->scene);
+      if (a->roughness >= 0) s->set_sigma_rho2(a->roughness * a->roughness);
+      source = std::move(s);
+    } else {
+      voxelizer::MeshOptions mesh_options;
+      if (a->colour.size() == 3) mesh_options.colour = glm::vec3(a->colour[0], a->colour[1], a->colour[2]);
+      if (a->roughness >= 0) mesh_options.sigma_rho = a->roughness;
+      source = voxelizer::load_mesh(a->input, mesh_options);
+    }
+    double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
+    double estimate = voxelizer::estimate_memory_bytes(*source, a->resolution, a->brick) / (1024.0 * 1024.0);
+    if (limit > 0 && estimate > limit) {
+      throw std::runtime_error(what + ": resolution " + std::to_string(a->resolution) + " needs about " +
+                               std::to_string(int64_t(estimate)) + " MiB, above the limit of " +
+                               std::to_string(int64_t(limit)) + " MiB (--max-memory)");
+    }
+    ProgressBar bar("voxelize");
+    voxelizer::VoxelizeOptions options;
+    options.resolution = a->resolution;
+    options.brick_size = a->brick;
+    options.progress = [&bar](const std::string& stage, double f) { bar.update(stage, f); };
+    voxelizer::VoxelizeReport report;
+    octree::Octree tree = voxelizer::voxelize(*source, options, &report);
+    bar.update("writing", 1.0);
+    octree::write_svo(a->output, tree);
+    bar.finish();
+    double bytes = 0;
+    {
+      std::ifstream f(a->output, std::ios::binary | std::ios::ate);
+      bytes = double(f.tellg());
+    }
+    double voxels = double(tree.voxel_count());
+    if (a->json) {
+      nlohmann::json channels = nlohmann::json::array();
+      for (const auto& c : tree.channels) channels.push_back(octree::channel_name(c.channel));
+      nlohmann::json out{{"input", what},
+                         {"output", a->output},
+                         {"resolution", a->resolution},
+                         {"brick_size", a->brick},
+                         {"seconds", report.seconds_total},
+                         {"seconds_distance_field", report.seconds_source},
+                         {"peak_rss_mb", peak_rss_mb()},
+                         {"estimated_mb", estimate},
+                         {"samples", report.samples},
+                         {"nodes", tree.nodes.size()},
+                         {"bricks", tree.brick_count},
+                         {"voxels", tree.voxel_count()},
+                         {"bytes", bytes},
+                         {"bytes_per_voxel", voxels > 0 ? bytes / voxels : 0.0},
+                         {"channels", channels}};
+      std::cout << out.dump() << "\n";
+    } else {
+      std::cout << what << " -> " << a->output << ": " << tree.depth_count << " levels, " << tree.brick_count
+                << " bricks, " << uint64_t(voxels) << " voxels, " << bytes / voxels << " bytes/voxel, "
+                << report.seconds_total << " s, peak " << int(peak_rss_mb()) << " MiB\n";
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,97 @@
+// Built-in procedural scenes with analytic distance functions (DESIGN
+// section 11): exact ground truth for the rest of the engine, and surfaces
+// whose statistics are known in closed form for the tests.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "svo/voxelizer/source.h"
+
+namespace svo::voxelizer {
+
+// A surface given by a signed distance function. Subclasses define the
+// function; projection onto the surface, normals and the lattice queries
+// come from here.
+class AnalyticScene : public SurfaceSource {
+ public:
+  // Signed distance (negative inside), or a function whose gradient has norm
+  // close to 1 near the surface and at most lipschitz() everywhere.
+  virtual float distance(glm::vec3 p) const = 0;
+  // (gradient of distance(), distance()) at p; central differences unless a
+  // scene knows it in closed form.
+  virtual glm::vec4 distance_gradient(glm::vec3 p) const;
+  virtual float lipschitz() const { return 1.0f; }
+  // Attribute (linear RGB) at a surface point.
+  virtual glm::vec3 colour(glm::vec3 surface_point) const = 0;
+  // Scene name as given to --scene.
+  virtual std::string name() const = 0;
+
+  float sigma_rho2() const override { return sigma_rho2_; }
+  // Default: 1.5 times the area of the bounding box (bumps add area).
+  double surface_area() const override;
+  void set_sigma_rho2(float v) { sigma_rho2_ = v; }
+
+  // Unit normal: normalised central-difference gradient of distance().
+  glm::vec3 normal(glm::vec3 p) const;
+  // Closest surface point by Newton steps along the gradient.
+  glm::vec3 project(glm::vec3 p) const;
+
+  void prepare(const Lattice& lattice) override { lattice_ = lattice; }
+  std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override;
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const override;
+
+ protected:
+  Lattice lattice_;
+  float sigma_rho2_ = 0.01f;
+};
+
+// Names accepted by make_scene.
+std::vector<std::string> scene_names();
+
+// "bumpy-sphere" (paper Fig. 11), "heightfield" (Fig. 9), "grooved-cylinder"
+// (Fig. 5); colour correlated with height as a(h) = abar + a_s s(h).
+// Throws std::invalid_argument naming the valid names for anything else.
+std::unique_ptr<AnalyticScene> make_scene(const std::string& name);
+
+// A Gaussian random height field z = sum_k A_k cos(k . (x, y) + phi_k) over
+// [-1, 1]^2, closed below into a slab; its height and slope variances are
+// known in closed form. Colour a(h) = abar + a_s erf(h / (sqrt(2) sigma_h)).
+class HeightfieldScene : public AnalyticScene {
+ public:
+  // `waves` cosines with wavelengths between min_wavelength and
+  // max_wavelength, amplitudes giving height deviation sigma_h.
+  HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h, unsigned seed,
+                   glm::vec3 abar, glm::vec3 a_s);
+  float height(float x, float y) const;
+  glm::vec2 gradient(float x, float y) const;
+  float height_variance() const { return height_variance_; }
+  glm::vec2 slope_variance() const { return slope_variance_; }
+  float sigma_h() const;
+  glm::vec3 abar() const { return abar_; }
+  glm::vec3 a_s() const { return a_s_; }
+
+  float distance(glm::vec3 p) const override;
+  glm::vec4 distance_gradient(glm::vec3 p) const override;
+  float lipschitz() const override { return lipschitz_; }
+  glm::vec3 colour(glm::vec3 surface_point) const override;
+  Box bounds() const override;
+  std::string name() const override { return "heightfield"; }
+
+ private:
+  struct Cosine {
+    float amplitude, kx, ky, phase;
+  };
+  static constexpr float kBottom = -0.6f;  // the slab's floor, out of the way of the top's statistics
+  std::vector<Cosine> waves_;
+  float height_variance_ = 0;
+  glm::vec2 slope_variance_{0, 0};
+  float lipschitz_ = 1;
+  glm::vec3 abar_, a_s_;
+};
+
+}  // namespace svo::voxelizer

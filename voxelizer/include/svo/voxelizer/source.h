@@ -1,0 +1,64 @@
+// What the voxelizer needs from a surface: its bounds, and on the finest
+// lattice the signed distance with, near the surface, the closest surface
+// point, the normal and the attribute there. Meshes (through OpenVDB) and
+// the procedural scenes both provide it.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace svo::voxelizer {
+
+struct Box {
+  glm::vec3 lo{0, 0, 0};
+  glm::vec3 hi{0, 0, 0};
+};
+
+// The finest lattice: point (i, j, k) sits at origin + (i, j, k) * voxel,
+// 0 <= i, j, k <= resolution.
+struct Lattice {
+  glm::dvec3 origin{0, 0, 0};
+  double voxel = 1;
+  uint32_t resolution = 1;
+  glm::dvec3 position(glm::ivec3 index) const;
+};
+
+// Width of the band around the surface, in finest voxels, inside which a
+// source gives exact values (distance, closest point, normal, colour).
+constexpr float kBandVoxels = 3.0f;
+
+struct FinePoint {
+  float distance = 0;     // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
+  bool near = false;      // |distance| < kBandVoxels voxels: the fields below are set
+  glm::vec3 closest{0, 0, 0};  // closest surface point
+  glm::vec3 normal{0, 0, 1};   // unit surface normal at `closest`
+  glm::vec3 colour{0, 0, 0};   // linear RGB attribute at `closest`
+};
+
+class SurfaceSource {
+ public:
+  virtual ~SurfaceSource() = default;
+  // Axis-aligned bounds of the surface.
+  virtual Box bounds() const = 0;
+  // Micro-BRDF slope variance of the material (Heitz & Neyret 5.5).
+  virtual float sigma_rho2() const = 0;
+  // Surface area (an upper estimate is fine), scene units squared: sizes the
+  // memory estimate before anything is allocated.
+  virtual double surface_area() const = 0;
+  // Memory the source itself needs per finest surface sample (e.g. the
+  // OpenVDB narrow band), bytes.
+  virtual double bytes_per_sample() const { return 0; }
+  // Called once before any other query below, with the lattice to serve.
+  virtual void prepare(const Lattice& lattice) = 0;
+  // Finest-level bricks (`brick_size` cells, brick b owns lattice points
+  // b * brick_size + [0, brick_size)) that may own a point within half a
+  // voxel of the surface. May over-approximate, never miss one.
+  virtual std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const = 0;
+  // Evaluates lattice points lo..hi (inclusive, x fastest, then y, then z)
+  // into `out`. Points outside 0..resolution are allowed. Thread-safe.
+  virtual void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const = 0;
+};
+
+}  // namespace svo::voxelizer

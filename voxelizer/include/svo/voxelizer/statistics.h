@@ -1,0 +1,39 @@
+// Pre-filtered statistics of the surface inside a voxel's footprint
+// (Heitz & Neyret section 5.2, DESIGN section 6), from the finest-level
+// surface samples that fall in it.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+
+#include "svo/octree/octree.h"
+
+namespace svo::voxelizer {
+
+// A point of the zero set found from the finest lattice, with the normal and
+// attribute there. Each carries the same weight: one per finest lattice
+// point within half a voxel of the surface, i.e. a uniform area density.
+struct SurfaceSample {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec3 colour;
+};
+
+// Statistics of `samples[indices]` for a voxel centred at `centre`:
+//  - nbar = normalize(sum n_i) (samples are uniform in area: this is the
+//    projected-area vector); every other statistic weighs sample i by its
+//    projected area w_i = max(0, n_i . nbar), since heights, slopes and
+//    colours are distributions over the footprint as the pixel sees it;
+//  - ybar = weighted mean of y_i; hbar = nbar . (centre - ybar);
+//  - micro-heights h_i = nbar . (y_i - ybar), sigma_h^2 their variance;
+//  - slopes of n_i in the frame svo_tangent_frame(nbar): covariance about
+//    their mean (slope_cov = (var_x, var_y, cov_xy));
+//  - abar = weighted mean colour; a_s = sum s(h_i)(a_i - abar) / sum s(h_i)^2 with
+//    s(h) = erf(h / (sqrt(2) sigma_h)), 0 when sigma_h = 0.
+// Sums in double. `indices` must not be empty.
+octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::span<const uint32_t> indices,
+                                 glm::vec3 centre);
+
+}  // namespace svo::voxelizer

@@ -1,0 +1,222 @@
+// The only translation unit that includes OpenVDB (slow to compile).
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/geometric.hpp>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+
+#include "common/shared_math.h"
+#include "svo/voxelizer/mesh.h"
+
+namespace svo::voxelizer {
+
+namespace {
+
+struct MeshTraits : OpenMesh::DefaultTraits {
+  VertexAttributes(OpenMesh::Attributes::Color | OpenMesh::Attributes::Normal);
+  FaceAttributes(OpenMesh::Attributes::Normal);
+  using Color = OpenMesh::Vec3uc;
+};
+using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
+
+// Closest point to p on triangle (a, b, c), with its barycentric coordinates
+// (Ericson, Real-Time Collision Detection, 5.1.5).
+glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3& bary) {
+  glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return bary = {1, 0, 0}, a;
+  glm::dvec3 bp = p - b;
+  double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return bary = {0, 1, 0}, b;
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    double v = d1 / (d1 - d3);
+    return bary = {1 - v, v, 0}, a + v * ab;
+  }
+  glm::dvec3 cp = p - c;
+  double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return bary = {0, 0, 1}, c;
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    double w = d2 / (d2 - d6);
+    return bary = {1 - w, 0, w}, a + w * ac;
+  }
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return bary = {0, 1 - w, w}, b + w * (c - b);
+  }
+  double denom = 1 / (va + vb + vc);
+  double v = vb * denom, w = vc * denom;
+  bary = {1 - v - w, v, w};
+  return a + ab * v + ac * w;
+}
+
+class MeshSource : public SurfaceSource {
+ public:
+  MeshSource(const std::string& path, const MeshOptions& options) : path_(path) {
+    if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
+    TriMesh mesh;
+    mesh.request_vertex_colors();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor;
+    if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
+      throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
+    }
+    if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
+    mesh.request_face_normals();
+    mesh.request_vertex_normals();
+    mesh.update_normals();
+    bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
+    glm::vec3 constant = options.colour.value_or(glm::vec3(0.8f));
+    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : 0.01f;
+    for (auto v : mesh.vertices()) {
+      auto p = mesh.point(v);
+      glm::dvec3 q(p[0], p[1], p[2]);
+      if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
+        throw std::runtime_error(path + ": vertex " + std::to_string(v.idx()) + " has a non-finite coordinate");
+      }
+      positions_.push_back(q);
+      auto n = mesh.normal(v);
+      glm::vec3 nn(n[0], n[1], n[2]);
+      normals_.push_back(glm::length(nn) > 0 ? glm::normalize(nn) : glm::vec3(0, 0, 1));
+      if (colours) {
+        auto c = mesh.color(v);
+        colours_.push_back(glm::vec3(svo::math::svo_srgb_to_linear(c[0] / 255.0f),
+                                     svo::math::svo_srgb_to_linear(c[1] / 255.0f),
+                                     svo::math::svo_srgb_to_linear(c[2] / 255.0f)));
+      } else {
+        colours_.push_back(constant);
+      }
+    }
+    for (auto f : mesh.faces()) {
+      glm::ivec3 t;
+      int k = 0;
+      for (auto v : mesh.fv_range(f)) {
+        if (k < 3) t[k] = v.idx();
+        ++k;
+      }
+      if (k != 3) continue;
+      triangles_.push_back(t);
+      glm::dvec3 a = positions_[size_t(t.x)], b = positions_[size_t(t.y)], c = positions_[size_t(t.z)];
+      area_ += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    if (triangles_.empty()) throw std::runtime_error(path + ": the mesh has no triangles");
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const auto& p : positions_) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    if (!(glm::length(hi - lo) > 0)) throw std::runtime_error(path + ": the mesh has zero extent");
+    bounds_ = {glm::vec3(lo), glm::vec3(hi)};
+  }
+
+  Box bounds() const override { return bounds_; }
+  float sigma_rho2() const override { return sigma_rho2_; }
+  double surface_area() const override { return area_; }
+  // Narrow band of 3 voxels each side, float distance + int32 polygon index, tree overhead.
+  double bytes_per_sample() const override { return 6 * (4 + 4) * 1.5; }
+
+  void prepare(const Lattice& lattice) override {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+    lattice_ = lattice;
+    transform_ = openvdb::math::Transform::createLinearTransform(lattice.voxel);
+    transform_->postTranslate(openvdb::Vec3d(lattice.origin.x, lattice.origin.y, lattice.origin.z));
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(positions_.size());
+    for (const auto& p : positions_) {
+      glm::dvec3 i = (p - lattice.origin) / lattice.voxel;
+      points.emplace_back(float(i.x), float(i.y), float(i.z));
+    }
+    std::vector<openvdb::Vec3I> tris;
+    tris.reserve(triangles_.size());
+    for (const auto& t : triangles_) tris.emplace_back(uint32_t(t.x), uint32_t(t.y), uint32_t(t.z));
+    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
+    index_ = openvdb::Int32Grid::create(-1);
+    distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, kBandVoxels + 1,
+                                                                 kBandVoxels + 1, 0, index_.get());
+  }
+
+  std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
+    std::vector<glm::ivec3> out;
+    const float h = float(lattice_.voxel);
+    const int B = int(brick_size), limit = int(lattice_.resolution / brick_size);
+    for (auto leaf = distance_->tree().cbeginLeaf(); leaf; ++leaf) {
+      bool surface = false;
+      for (auto v = leaf->cbeginValueOn(); v && !surface; ++v) surface = std::abs(*v) <= 0.5f * h;
+      if (!surface) continue;
+      openvdb::CoordBBox box = leaf->getNodeBoundingBox();
+      glm::ivec3 lo(box.min().x(), box.min().y(), box.min().z()), hi(box.max().x(), box.max().y(), box.max().z());
+      glm::ivec3 blo = glm::max(glm::ivec3(0), glm::ivec3(glm::floor(glm::vec3(lo) / float(B))));
+      glm::ivec3 bhi = glm::min(glm::ivec3(limit - 1), glm::ivec3(glm::floor(glm::vec3(hi) / float(B))));
+      for (int z = blo.z; z <= bhi.z; ++z)
+        for (int y = blo.y; y <= bhi.y; ++y)
+          for (int x = blo.x; x <= bhi.x; ++x) out.emplace_back(x, y, z);
+    }
+    std::sort(out.begin(), out.end(), [](glm::ivec3 a, glm::ivec3 b) {
+      return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
+    });
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const override {
+    out.clear();
+    auto dist = distance_->getConstAccessor();
+    auto index = index_->getConstAccessor();
+    const float band = kBandVoxels * float(lattice_.voxel);
+    const float background = distance_->background();
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+          openvdb::Coord ijk(x, y, z);
+          FinePoint point;
+          float d = dist.getValue(ijk);
+          int32_t tri = index.getValue(ijk);
+          if (std::abs(d) < band && tri >= 0 && size_t(tri) < triangles_.size()) {
+            glm::dvec3 p = lattice_.position({x, y, z});
+            const glm::ivec3& t = triangles_[size_t(tri)];
+            glm::dvec3 bary;
+            glm::dvec3 c = closest_on_triangle(p, positions_[size_t(t.x)], positions_[size_t(t.y)],
+                                               positions_[size_t(t.z)], bary);
+            double exact = glm::length(p - c);
+            point.near = exact < band;
+            point.distance = float(d < 0 ? -exact : exact);
+            point.closest = glm::vec3(c);
+            glm::vec3 n = float(bary.x) * normals_[size_t(t.x)] + float(bary.y) * normals_[size_t(t.y)] +
+                          float(bary.z) * normals_[size_t(t.z)];
+            point.normal = glm::length(n) > 0 ? glm::normalize(n) : glm::vec3(0, 0, 1);
+            point.colour = float(bary.x) * colours_[size_t(t.x)] + float(bary.y) * colours_[size_t(t.y)] +
+                           float(bary.z) * colours_[size_t(t.z)];
+            if (!point.near) point.distance = d < 0 ? -band : band;
+          } else {
+            float magnitude = std::max(std::abs(d), band);
+            point.distance = (d < 0 || (d == -background)) ? -magnitude : magnitude;
+          }
+          out.push_back(point);
+        }
+  }
+
+ private:
+  std::string path_;
+  std::vector<glm::dvec3> positions_;
+  std::vector<glm::vec3> normals_, colours_;
+  std::vector<glm::ivec3> triangles_;
+  double area_ = 0;
+  float sigma_rho2_ = 0.01f;
+  Box bounds_;
+  Lattice lattice_;
+  openvdb::math::Transform::Ptr transform_;
+  openvdb::FloatGrid::Ptr distance_;
+  openvdb::Int32Grid::Ptr index_;
+};
+
+}  // namespace
+
+std::unique_ptr<SurfaceSource> load_mesh(const std::string& path, const MeshOptions& options) {
+  return std::make_unique<MeshSource>(path, options);
+}
+
+}  // namespace svo::voxelizer

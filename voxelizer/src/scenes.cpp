@@ -1,0 +1,298 @@
+#include "svo/voxelizer/scenes.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "common/shared_math.h"
+
+namespace svo::voxelizer {
+
+glm::dvec3 Lattice::position(glm::ivec3 index) const { return origin + glm::dvec3(index) * voxel; }
+
+namespace {
+
+float height_sigmoid(float h, float sigma_h) { return svo::math::svo_height_sigmoid(h, sigma_h); }
+
+}  // namespace
+
+double AnalyticScene::surface_area() const {
+  glm::dvec3 e = glm::dvec3(bounds().hi) - glm::dvec3(bounds().lo);
+  return 1.5 * 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+}
+
+glm::vec4 AnalyticScene::distance_gradient(glm::vec3 p) const {
+  const float e = 1e-4f;
+  glm::vec3 g(distance(p + glm::vec3(e, 0, 0)) - distance(p - glm::vec3(e, 0, 0)),
+              distance(p + glm::vec3(0, e, 0)) - distance(p - glm::vec3(0, e, 0)),
+              distance(p + glm::vec3(0, 0, e)) - distance(p - glm::vec3(0, 0, e)));
+  return glm::vec4(g / (2 * e), distance(p));
+}
+
+glm::vec3 AnalyticScene::normal(glm::vec3 p) const {
+  glm::vec3 g(distance_gradient(p));
+  float len = glm::length(g);
+  return len > 0 ? g / len : glm::vec3(0, 0, 1);
+}
+
+glm::vec3 AnalyticScene::project(glm::vec3 p) const {
+  glm::vec3 y = p;
+  for (int i = 0; i < 16; ++i) {
+    glm::vec4 fg = distance_gradient(y);
+    glm::vec3 g(fg);
+    float g2 = glm::dot(g, g);
+    if (!(g2 > 1e-12f)) break;
+    glm::vec3 step = fg.w * g / g2;
+    y -= step;
+    if (glm::dot(step, step) < 1e-14f) break;
+  }
+  return y;
+}
+
+std::vector<glm::ivec3> AnalyticScene::candidate_bricks(uint32_t brick_size) const {
+  // Lipschitz culling, coarse to fine: a cube of side s centred at c holds no
+  // surface when |f(c)| > L s sqrt(3)/2 (plus one voxel of margin for the
+  // half-voxel sample band).
+  std::vector<glm::ivec3> out;
+  const int bricks = int(lattice_.resolution / brick_size);
+  struct Cell {
+    glm::ivec3 lo;
+    int span;  // in bricks
+  };
+  std::vector<Cell> stack{{glm::ivec3(0), bricks}};
+  while (!stack.empty()) {
+    Cell cell = stack.back();
+    stack.pop_back();
+    double side = double(cell.span) * brick_size * lattice_.voxel;
+    glm::dvec3 centre = lattice_.position(cell.lo * int(brick_size)) + glm::dvec3(side / 2);
+    double reach = lipschitz() * (side * std::sqrt(3.0) / 2 + 2 * lattice_.voxel);
+    if (std::abs(double(distance(glm::vec3(centre)))) > reach) continue;
+    if (cell.span == 1) {
+      out.push_back(cell.lo);
+      continue;
+    }
+    int half = cell.span / 2;
+    for (int i = 0; i < 8; ++i) {
+      stack.push_back({cell.lo + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1) * half, half});
+    }
+  }
+  return out;
+}
+
+void AnalyticScene::evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const {
+  out.clear();
+  const float band = kBandVoxels * float(lattice_.voxel);
+  for (int z = lo.z; z <= hi.z; ++z) {
+    for (int y = lo.y; y <= hi.y; ++y) {
+      for (int x = lo.x; x <= hi.x; ++x) {
+        glm::vec3 p(lattice_.position({x, y, z}));
+        glm::vec4 fg = distance_gradient(p);
+        float f = fg.w;
+        FinePoint point;
+        // First-order distance f / |grad f| decides whether to project.
+        float estimate = std::abs(f) / std::max(glm::length(glm::vec3(fg)), 1e-6f);
+        if (estimate < 2 * band) {
+          glm::vec3 c = project(p);
+          float d = glm::length(p - c);
+          if (d < band) {
+            point.near = true;
+            point.distance = f < 0 ? -d : d;
+            point.closest = c;
+            point.normal = normal(c);
+            point.colour = colour(c);
+            out.push_back(point);
+            continue;
+          }
+        }
+        float magnitude = std::max(std::abs(f) / lipschitz(), band);
+        point.distance = f < 0 ? -magnitude : magnitude;
+        out.push_back(point);
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Height field (paper Fig. 9).
+
+HeightfieldScene::HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h,
+                                   unsigned seed, glm::vec3 abar, glm::vec3 a_s)
+    : abar_(abar), a_s_(a_s) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  float amplitude = sigma_h * std::sqrt(2.0f / float(waves));
+  float max_slope = 0;
+  for (int i = 0; i < waves; ++i) {
+    float wavelength = min_wavelength * std::pow(max_wavelength / min_wavelength, u(rng));
+    float k = 2.0f * float(M_PI) / wavelength;
+    float angle = 2.0f * float(M_PI) * u(rng);
+    Cosine c{amplitude, k * std::cos(angle), k * std::sin(angle), 2.0f * float(M_PI) * u(rng)};
+    waves_.push_back(c);
+    height_variance_ += 0.5f * amplitude * amplitude;
+    slope_variance_ += 0.5f * amplitude * amplitude * glm::vec2(c.kx * c.kx, c.ky * c.ky);
+    max_slope += amplitude * k;
+  }
+  lipschitz_ = std::sqrt(1.0f + max_slope * max_slope);
+}
+
+float HeightfieldScene::height(float x, float y) const {
+  float h = 0;
+  for (const Cosine& c : waves_) h += c.amplitude * std::cos(c.kx * x + c.ky * y + c.phase);
+  return h;
+}
+
+glm::vec2 HeightfieldScene::gradient(float x, float y) const {
+  glm::vec2 g(0, 0);
+  for (const Cosine& c : waves_) g -= c.amplitude * std::sin(c.kx * x + c.ky * y + c.phase) * glm::vec2(c.kx, c.ky);
+  return g;
+}
+
+float HeightfieldScene::sigma_h() const { return std::sqrt(height_variance_); }
+
+// max(z - H(x, y), sides, bottom): Lipschitz with sqrt(1 + max |grad H|^2);
+// evaluate() turns it into a Euclidean distance near the surface.
+float HeightfieldScene::distance(glm::vec3 p) const { return distance_gradient(p).w; }
+
+glm::vec4 HeightfieldScene::distance_gradient(glm::vec3 p) const {
+  float h = 0;
+  glm::vec2 g(0, 0);
+  for (const Cosine& c : waves_) {
+    float phase = c.kx * p.x + c.ky * p.y + c.phase;
+    h += c.amplitude * std::cos(phase);
+    g -= c.amplitude * std::sin(phase) * glm::vec2(c.kx, c.ky);
+  }
+  glm::vec4 best(-g.x, -g.y, 1.0f, p.z - h);
+  float side_x = std::abs(p.x) - 1.0f, side_y = std::abs(p.y) - 1.0f, bottom = kBottom - p.z;
+  if (side_x > best.w) best = glm::vec4(p.x < 0 ? -1.0f : 1.0f, 0, 0, side_x);
+  if (side_y > best.w) best = glm::vec4(0, p.y < 0 ? -1.0f : 1.0f, 0, side_y);
+  if (bottom > best.w) best = glm::vec4(0, 0, -1.0f, bottom);
+  return best;
+}
+
+glm::vec3 HeightfieldScene::colour(glm::vec3 q) const {
+  return abar_ + a_s_ * height_sigmoid(height(q.x, q.y), sigma_h());
+}
+
+Box HeightfieldScene::bounds() const {
+  // Symmetric about z = 0 (the mean surface), so that lattice points of
+  // every depth fall on it.
+  float top = std::max(-kBottom, 5.0f * sigma_h());
+  return {glm::vec3(-1.0f, -1.0f, -top), glm::vec3(1.0f, 1.0f, top)};
+}
+
+namespace {
+
+// A sphere of radius 0.7 carrying bumps b(u) = sum_k A_k sin(f_k w_k . u + phi_k)
+// of deviation 0.012 (paper Fig. 11); colour follows the bump height.
+class BumpySphere : public AnalyticScene {
+ public:
+  BumpySphere() {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const int n = 24;
+    float amplitude = kSigma * std::sqrt(2.0f / n);
+    for (int i = 0; i < n; ++i) {
+      float z = 2 * u(rng) - 1, phi = 2 * float(M_PI) * u(rng), r = std::sqrt(1 - z * z);
+      float f = 25.0f + 35.0f * u(rng);
+      bumps_.push_back({amplitude, glm::vec3(r * std::cos(phi), r * std::sin(phi), z) * f, 2 * float(M_PI) * u(rng)});
+      max_slope += amplitude * f;
+    }
+    lipschitz_ = std::sqrt(1.0f + max_slope * max_slope / (0.5f * 0.5f));  // |grad b| / r for r >= 0.5
+  }
+  float bump(glm::vec3 dir) const {
+    float b = 0;
+    for (const auto& k : bumps_) b += k.amplitude * std::sin(glm::dot(k.frequency, dir) + k.phase);
+    return b;
+  }
+  float distance(glm::vec3 p) const override {
+    float r = glm::length(p);
+    if (r < 1e-6f) return -kRadius;
+    return r - (kRadius + bump(p / r));
+  }
+  // grad f = u - (I - u u^T) grad b / r, u = p / r.
+  glm::vec4 distance_gradient(glm::vec3 p) const override {
+    float r = glm::length(p);
+    if (r < 1e-6f) return glm::vec4(0, 0, 1, -kRadius);
+    glm::vec3 u = p / r, gb(0);
+    float b = 0;
+    for (const auto& k : bumps_) {
+      float phase = glm::dot(k.frequency, u) + k.phase;
+      b += k.amplitude * std::sin(phase);
+      gb += k.amplitude * std::cos(phase) * k.frequency;
+    }
+    glm::vec3 tangential = (gb - u * glm::dot(u, gb)) / r;
+    return glm::vec4(u - tangential, r - (kRadius + b));
+  }
+  float lipschitz() const override { return lipschitz_; }
+  glm::vec3 colour(glm::vec3 q) const override {
+    float h = bump(glm::normalize(q));
+    return glm::vec3(0.5f, 0.32f, 0.22f) + glm::vec3(0.35f, 0.3f, -0.12f) * height_sigmoid(h, kSigma);
+  }
+  Box bounds() const override {
+    float r = kRadius + 5 * kSigma;
+    return {glm::vec3(-r), glm::vec3(r)};
+  }
+  std::string name() const override { return "bumpy-sphere"; }
+
+ private:
+  static constexpr float kRadius = 0.7f;
+  static constexpr float kSigma = 0.012f;
+  struct Bump {
+    float amplitude;
+    glm::vec3 frequency;
+    float phase;
+  };
+  std::vector<Bump> bumps_;
+  float max_slope = 0, lipschitz_ = 1;
+};
+
+// A capped cylinder along y whose radius varies with the angle only:
+// r(theta) = 0.5 + A sin(48 theta), grooves along the axis, so its slopes are
+// strongly anisotropic (paper Fig. 5); colour follows the groove height.
+class GroovedCylinder : public AnalyticScene {
+ public:
+  float groove(glm::vec3 p) const { return kAmplitude * std::sin(kGrooves * std::atan2(p.z, p.x)); }
+  float distance(glm::vec3 p) const override {
+    float rho = std::sqrt(p.x * p.x + p.z * p.z);
+    float slope = kAmplitude * kGrooves / std::max(rho, 0.1f);
+    float side = (rho - kRadius - groove(p)) / std::sqrt(1.0f + slope * slope * 0.5f);
+    return std::max(side, std::abs(p.y) - kHalfHeight);
+  }
+  float lipschitz() const override { return 2.5f; }
+  glm::vec3 colour(glm::vec3 q) const override {
+    float sigma = kAmplitude / std::sqrt(2.0f);
+    return glm::vec3(0.3f, 0.55f, 0.3f) + glm::vec3(-0.2f, 0.3f, -0.15f) * height_sigmoid(groove(q), sigma);
+  }
+  Box bounds() const override {
+    float r = kRadius + kAmplitude;
+    return {glm::vec3(-r, -kHalfHeight, -r), glm::vec3(r, kHalfHeight, r)};
+  }
+  std::string name() const override { return "grooved-cylinder"; }
+
+ private:
+  static constexpr float kRadius = 0.5f;
+  static constexpr float kAmplitude = 0.015f;
+  static constexpr float kGrooves = 48.0f;
+  static constexpr float kHalfHeight = 0.6f;
+};
+
+}  // namespace
+
+std::vector<std::string> scene_names() { return {"bumpy-sphere", "heightfield", "grooved-cylinder"}; }
+
+std::unique_ptr<AnalyticScene> make_scene(const std::string& name) {
+  if (name == "bumpy-sphere") return std::make_unique<BumpySphere>();
+  if (name == "grooved-cylinder") return std::make_unique<GroovedCylinder>();
+  if (name == "heightfield") {
+    return std::make_unique<HeightfieldScene>(64, 0.08f, 0.25f, 0.02f, 5, glm::vec3(0.45f, 0.4f, 0.3f),
+                                              glm::vec3(0.3f, 0.2f, 0.15f));
+  }
+  std::string names;
+  for (const auto& n : scene_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown scene '" + name + "' (scenes: " + names + ")");
+}
+
+}  // namespace svo::voxelizer
