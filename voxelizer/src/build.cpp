@@ -158,6 +158,7 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
   }
   rep.samples = samples.size();
   found = {};
+  rep.seconds_samples = clock.seconds() - rep.seconds_source;
 
   // --- Coarser levels: statistics over box footprints centred on lattice points.
   for (int d = int(D) - 1; d >= 0; --d) {
@@ -196,6 +197,8 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
   for (uint32_t d = D; d >= 1; --d) {
     for (Key k : levels[d].bricks) levels[d - 1].bricks.insert(pack(unpack(k) / 2));
   }
+
+  rep.seconds_statistics = clock.seconds() - rep.seconds_source - rep.seconds_samples;
 
   // --- Topology: nodes depth by depth, children in tiles of 8.
   progress("topology", 0.5);
@@ -382,6 +385,7 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
   });
   progress("done", 1.0);
   rep.seconds_total = clock.seconds();
+  rep.seconds_bricks = rep.seconds_total - rep.seconds_source - rep.seconds_samples - rep.seconds_statistics;
   return tree;
 }
 

@@ -1,6 +1,7 @@
 // The only translation unit that includes OpenVDB (slow to compile).
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -18,8 +19,7 @@ namespace svo::voxelizer {
 namespace {
 
 struct MeshTraits : OpenMesh::DefaultTraits {
-  VertexAttributes(OpenMesh::Attributes::Color | OpenMesh::Attributes::Normal);
-  FaceAttributes(OpenMesh::Attributes::Normal);
+  VertexAttributes(OpenMesh::Attributes::Color);
   using Color = OpenMesh::Vec3uc;
 };
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
@@ -61,6 +61,12 @@ class MeshSource : public SurfaceSource {
  public:
   MeshSource(const std::string& path, const MeshOptions& options) : path_(path) {
     if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
+    if (std::filesystem::is_directory(path)) throw std::runtime_error(path + ": is a directory, not a mesh");
+    // OpenMesh reports problems on its own streams, several lines each: we
+    // report one line ourselves.
+    omerr().disable();
+    omlog().disable();
+    omout().disable();
     TriMesh mesh;
     mesh.request_vertex_colors();
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor;
@@ -68,9 +74,6 @@ class MeshSource : public SurfaceSource {
       throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
     }
     if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
-    mesh.request_face_normals();
-    mesh.request_vertex_normals();
-    mesh.update_normals();
     bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
     glm::vec3 constant = options.colour.value_or(glm::vec3(0.8f));
     sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : 0.01f;
@@ -81,9 +84,6 @@ class MeshSource : public SurfaceSource {
         throw std::runtime_error(path + ": vertex " + std::to_string(v.idx()) + " has a non-finite coordinate");
       }
       positions_.push_back(q);
-      auto n = mesh.normal(v);
-      glm::vec3 nn(n[0], n[1], n[2]);
-      normals_.push_back(glm::length(nn) > 0 ? glm::normalize(nn) : glm::vec3(0, 0, 1));
       if (colours) {
         auto c = mesh.color(v);
         colours_.push_back(glm::vec3(svo::math::svo_srgb_to_linear(c[0] / 255.0f),
@@ -101,11 +101,21 @@ class MeshSource : public SurfaceSource {
         ++k;
       }
       if (k != 3) continue;
-      triangles_.push_back(t);
       glm::dvec3 a = positions_[size_t(t.x)], b = positions_[size_t(t.y)], c = positions_[size_t(t.z)];
-      area_ += 0.5 * glm::length(glm::cross(b - a, c - a));
+      glm::dvec3 cross = glm::cross(b - a, c - a);
+      double twice_area = glm::length(cross);
+      if (!(twice_area > 0)) {
+        ++degenerate_;  // zero area: no normal, no surface; skipped
+        continue;
+      }
+      triangles_.push_back(t);
+      face_normals_.push_back(glm::vec3(cross / twice_area));
+      area_ += 0.5 * twice_area;
     }
-    if (triangles_.empty()) throw std::runtime_error(path + ": the mesh has no triangles");
+    if (triangles_.empty()) {
+      throw std::runtime_error(path + ": the mesh has no triangle of non-zero area (" + std::to_string(degenerate_) +
+                               " degenerate)");
+    }
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     for (const auto& p : positions_) lo = glm::min(lo, p), hi = glm::max(hi, p);
     if (!(glm::length(hi - lo) > 0)) throw std::runtime_error(path + ": the mesh has zero extent");
@@ -185,9 +195,9 @@ class MeshSource : public SurfaceSource {
             point.near = exact < band;
             point.distance = float(d < 0 ? -exact : exact);
             point.closest = glm::vec3(c);
-            glm::vec3 n = float(bary.x) * normals_[size_t(t.x)] + float(bary.y) * normals_[size_t(t.y)] +
-                          float(bary.z) * normals_[size_t(t.z)];
-            point.normal = glm::length(n) > 0 ? glm::normalize(n) : glm::vec3(0, 0, 1);
+            // The closest triangle's own normal (DESIGN section 6): interpolated
+            // vertex normals would bend flat faces next to sharp edges.
+            point.normal = face_normals_[size_t(tri)];
             point.colour = float(bary.x) * colours_[size_t(t.x)] + float(bary.y) * colours_[size_t(t.y)] +
                            float(bary.z) * colours_[size_t(t.z)];
             if (!point.near) point.distance = d < 0 ? -band : band;
@@ -202,7 +212,8 @@ class MeshSource : public SurfaceSource {
  private:
   std::string path_;
   std::vector<glm::dvec3> positions_;
-  std::vector<glm::vec3> normals_, colours_;
+  std::vector<glm::vec3> face_normals_, colours_;
+  size_t degenerate_ = 0;
   std::vector<glm::ivec3> triangles_;
   double area_ = 0;
   float sigma_rho2_ = 0.01f;

@@ -22,7 +22,10 @@ struct VoxelizeOptions {
 struct VoxelizeReport {
   uint64_t samples = 0;       // finest surface samples
   uint64_t filled_voxels = 0;  // lattice points with surface in their footprint, all levels
-  double seconds_source = 0;  // source.prepare (e.g. OpenVDB mesh to level set)
+  double seconds_source = 0;      // source.prepare (e.g. OpenVDB mesh to level set)
+  double seconds_samples = 0;     // finest surface samples
+  double seconds_statistics = 0;  // coarser levels
+  double seconds_bricks = 0;      // topology, channels and brick encoding
   double seconds_total = 0;
 };
 

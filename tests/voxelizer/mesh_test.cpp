@@ -1,0 +1,168 @@
+// Meshes through OpenMesh and OpenVDB: formats, vertex colours, distances,
+// and clear errors for files that are not usable meshes.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "svo/octree/sampler.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/mesh.h"
+
+namespace {
+using namespace svo;
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  fs::path dir = fs::temp_directory_path() / ("svo_mesh_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+// A cube [-0.5, 0.5]^3 as 12 triangles, outward-facing.
+const float kCorners[8][3] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
+                              {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
+const int kTriangles[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                               {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+
+std::string write_file(const std::string& name, const std::string& text) {
+  fs::path p = temp_dir() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string cube_off() {
+  std::string s = "OFF\n8 12 0\n";
+  for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (auto& t : kTriangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  return s;
+}
+
+// Vertex colours: red on the bottom face (z = -0.5), blue on top.
+std::string cube_ply() {
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 12\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (auto& c : kCorners) {
+    s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) +
+         (c[2] < 0 ? " 255 0 0\n" : " 0 0 255\n");
+  }
+  for (auto& t : kTriangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  return s;
+}
+
+std::string cube_obj() {
+  std::string s;
+  for (auto& c : kCorners) s += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (auto& t : kTriangles) s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  return s;
+}
+
+std::string cube_stl() {
+  std::string s = "solid cube\n";
+  for (auto& t : kTriangles) {
+    glm::vec3 a(kCorners[t[0]][0], kCorners[t[0]][1], kCorners[t[0]][2]);
+    glm::vec3 b(kCorners[t[1]][0], kCorners[t[1]][1], kCorners[t[1]][2]);
+    glm::vec3 c(kCorners[t[2]][0], kCorners[t[2]][1], kCorners[t[2]][2]);
+    glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    s += "facet normal " + std::to_string(n.x) + " " + std::to_string(n.y) + " " + std::to_string(n.z) + "\nouter loop\n";
+    for (glm::vec3 v : {a, b, c}) s += "vertex " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid cube\n";
+}
+
+// Distances at lattice points near the faces of the cube, level by level.
+void expect_cube_distances(const octree::Octree& tree) {
+  int checked = 0;
+  for (uint32_t d = 0; d < tree.depth_count; ++d) {
+    int cells = int(tree.brick_size << d);
+    float s = tree.voxel_size(d);
+    for (int z = 0; z <= cells; ++z)
+      for (int y = 0; y <= cells; ++y)
+        for (int x = 0; x <= cells; ++x) {
+          glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
+          // Near the top face, away from edges: the distance is p.z - 0.5.
+          if (std::abs(p.x) > 0.3f || std::abs(p.y) > 0.3f || std::abs(p.z - 0.5f) > 0.45f * s) continue;
+          auto v = octree::lattice_voxel(tree, d, {x, y, z});
+          ASSERT_TRUE(v.has_value());
+          EXPECT_NEAR(v->hbar, p.z - 0.5f, 1e-3f * s + 1e-5f) << "depth " << d;
+          EXPECT_GT(v->nbar.z, 0.999f) << "depth " << d;
+          ++checked;
+        }
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(Mesh, EveryFormatGivesTheSameCube) {
+  for (auto [name, text] : {std::pair{"cube.off", cube_off()}, std::pair{"cube.obj", cube_obj()},
+                            std::pair{"cube.ply", cube_ply()}, std::pair{"cube.stl", cube_stl()}}) {
+    SCOPED_TRACE(name);
+    auto mesh = voxelizer::load_mesh(write_file(name, text));
+    EXPECT_NEAR(mesh->surface_area(), 6.0, 1e-4);
+    voxelizer::VoxelizeOptions options;
+    options.resolution = 64;
+    octree::Octree tree = voxelizer::voxelize(*mesh, options);
+    expect_cube_distances(tree);
+  }
+}
+
+TEST(Mesh, VertexColoursReachTheVoxels) {
+  auto mesh = voxelizer::load_mesh(write_file("colours.ply", cube_ply()));
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  octree::Octree tree = voxelizer::voxelize(*mesh, options);
+  ASSERT_GE(tree.channel_index(octree::Channel::Colour), 0);
+  const uint32_t D = tree.depth_count - 1;
+  int cells = int(tree.finest_resolution());
+  int top = 0, bottom = 0;
+  for (int x = 0; x <= cells; x += 4)
+    for (int y = 0; y <= cells; y += 4)
+      for (int z = 0; z <= cells; ++z) {
+        glm::vec3 p = octree::lattice_position(tree, D, {x, y, z});
+        if (std::abs(p.x) > 0.4f || std::abs(p.y) > 0.4f) continue;
+        auto v = octree::lattice_voxel(tree, D, {x, y, z});
+        if (!v || std::abs(v->hbar) > 0.5f * tree.voxel_size(D)) continue;
+        if (std::abs(p.z - 0.5f) < 0.02f) {
+          EXPECT_NEAR(v->abar.b, 1.0f, 0.01f);
+          EXPECT_NEAR(v->abar.r, 0.0f, 0.01f);
+          ++top;
+        }
+        if (std::abs(p.z + 0.5f) < 0.02f) {
+          EXPECT_NEAR(v->abar.r, 1.0f, 0.01f);
+          EXPECT_NEAR(v->abar.b, 0.0f, 0.01f);
+          ++bottom;
+        }
+      }
+  EXPECT_GT(top, 10);
+  EXPECT_GT(bottom, 10);
+}
+
+void expect_error(const std::string& path, const std::string& fragment) {
+  try {
+    voxelizer::load_mesh(path);
+    ADD_FAILURE() << path << " was accepted";
+  } catch (const std::runtime_error& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find(fragment), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << "one line: " << m;
+  }
+}
+
+TEST(Mesh, BadFilesAreOneLineErrorsNamingTheFile) {
+  expect_error((temp_dir() / "missing.obj").string(), "no such file");
+  expect_error(write_file("empty.off", "OFF\n0 0 0\n"), "no faces");
+  expect_error(write_file("garbage.obj", "this is not a mesh\n"), "");
+  expect_error(write_file("unknown.xyz", cube_obj()), "");
+  // OpenMesh drops a vertex it cannot parse (nan) with the faces using it:
+  // a lone triangle then leaves no face.
+  expect_error(write_file("nan.off", "OFF\n3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "no faces");
+  expect_error(write_file("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n"), "non-zero area");
+}
+
+}  // namespace
