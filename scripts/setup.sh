@@ -18,6 +18,10 @@ PACKAGES=(
   vulkan-validationlayers                  # Khronos validation, on in the tests
   libcli11-dev nlohmann-json3-dev          # command line, JSON output
   libxxhash-dev                            # XXH64 checksums of the .svo file
+  libopenvdb-dev libboost-iostreams-dev    # mesh -> narrow-band signed distance (voxelizer only)
+  libopenmesh-dev                          # OBJ, PLY, OFF, STL input
+  libopenimageio-dev                       # textures
+  libtbb-dev                               # parallel loops
   libgtest-dev libgmock-dev                # tests
 )
 

@@ -3,10 +3,13 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
+#include <OpenImageIO/imagebuf.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
@@ -20,6 +23,8 @@ namespace {
 
 struct MeshTraits : OpenMesh::DefaultTraits {
   VertexAttributes(OpenMesh::Attributes::Color);
+  HalfedgeAttributes(OpenMesh::Attributes::TexCoord2D | OpenMesh::Attributes::PrevHalfedge);
+  FaceAttributes(OpenMesh::Attributes::TextureIndex);
   using Color = OpenMesh::Vec3uc;
 };
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
@@ -57,6 +62,51 @@ glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
   return a + ab * v + ac * w;
 }
 
+// A texture in linear RGB, sampled bilinearly with wrap-around (OBJ: v up).
+struct Texture {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> texels;
+
+  static Texture load(const std::string& file, const std::string& mesh_path) {
+    OIIO::ImageBuf image(file);
+    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+      throw std::runtime_error(mesh_path + ": texture " + file + ": " + image.geterror());
+    }
+    const OIIO::ImageSpec& spec = image.spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1) {
+      throw std::runtime_error(mesh_path + ": texture " + file + ": no pixels");
+    }
+    // 8- and 16-bit images hold sRGB-encoded values; float images are linear.
+    bool srgb = spec.format.basetype != OIIO::TypeDesc::FLOAT && spec.format.basetype != OIIO::TypeDesc::HALF;
+    Texture t;
+    t.width = spec.width, t.height = spec.height;
+    t.texels.resize(size_t(t.width) * size_t(t.height));
+    std::vector<float> pixel(size_t(spec.nchannels));
+    for (int y = 0; y < t.height; ++y)
+      for (int x = 0; x < t.width; ++x) {
+        image.getpixel(x + spec.x, y + spec.y, pixel.data(), spec.nchannels);
+        glm::vec3 c(pixel[0], pixel[std::min(1, spec.nchannels - 1)], pixel[std::min(2, spec.nchannels - 1)]);
+        if (srgb) {
+          c = glm::vec3(svo::math::svo_srgb_to_linear(c.x), svo::math::svo_srgb_to_linear(c.y),
+                        svo::math::svo_srgb_to_linear(c.z));
+        }
+        t.texels[size_t(y) * size_t(t.width) + size_t(x)] = glm::clamp(c, glm::vec3(0), glm::vec3(1e4f));
+      }
+    return t;
+  }
+
+  glm::vec3 sample(glm::vec2 uv) const {
+    float fx = (uv.x - std::floor(uv.x)) * width - 0.5f, fy = (1.0f - (uv.y - std::floor(uv.y))) * height - 0.5f;
+    int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+    float ax = fx - float(x0), ay = fy - float(y0);
+    auto at = [&](int x, int y) {
+      x = ((x % width) + width) % width, y = ((y % height) + height) % height;
+      return texels[size_t(y) * size_t(width) + size_t(x)];
+    };
+    return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), ax), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), ax), ay);
+  }
+};
+
 class MeshSource : public SurfaceSource {
  public:
   MeshSource(const std::string& path, const MeshOptions& options) : path_(path) {
@@ -69,7 +119,9 @@ class MeshSource : public SurfaceSource {
     omout().disable();
     TriMesh mesh;
     mesh.request_vertex_colors();
-    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor;
+    mesh.request_halfedge_texcoords2D();
+    mesh.request_face_texture_index();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
     if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
       throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
     }
@@ -93,11 +145,29 @@ class MeshSource : public SurfaceSource {
         colours_.push_back(constant);
       }
     }
+    // Textures named by the OBJ's materials (map_Kd), relative to the mesh.
+    std::map<int, int> texture_of_id;
+    OpenMesh::MPropHandleT<std::map<int, std::string>> mapping;
+    bool textured = opt.check(OpenMesh::IO::Options::FaceTexCoord) && mesh.get_property_handle(mapping, "TextureMapping");
+    if (textured) {
+      std::filesystem::path dir = std::filesystem::path(path).parent_path();
+      for (const auto& [id, name] : mesh.property(mapping)) {
+        std::string file = (dir / name).string();
+        if (!std::filesystem::exists(file)) throw std::runtime_error(path + ": texture " + file + " does not exist");
+        texture_of_id[id] = int(textures_.size());
+        textures_.push_back(Texture::load(file, path));
+      }
+    }
     for (auto f : mesh.faces()) {
       glm::ivec3 t;
+      std::array<glm::vec2, 3> uv{};
       int k = 0;
-      for (auto v : mesh.fv_range(f)) {
-        if (k < 3) t[k] = v.idx();
+      for (auto h : mesh.fh_range(f)) {
+        if (k < 3) {
+          t[k] = mesh.to_vertex_handle(h).idx();
+          auto tc = mesh.texcoord2D(h);
+          uv[size_t(k)] = glm::vec2(tc[0], tc[1]);
+        }
         ++k;
       }
       if (k != 3) continue;
@@ -110,6 +180,13 @@ class MeshSource : public SurfaceSource {
       }
       triangles_.push_back(t);
       face_normals_.push_back(glm::vec3(cross / twice_area));
+      int texture = -1;
+      if (textured) {
+        auto it = texture_of_id.find(mesh.texture_index(f));
+        if (it != texture_of_id.end()) texture = it->second;
+      }
+      face_texture_.push_back(texture);
+      face_uv_.push_back(uv);
       area_ += 0.5 * twice_area;
     }
     if (triangles_.empty()) {
@@ -198,8 +275,15 @@ class MeshSource : public SurfaceSource {
             // The closest triangle's own normal (DESIGN section 6): interpolated
             // vertex normals would bend flat faces next to sharp edges.
             point.normal = face_normals_[size_t(tri)];
-            point.colour = float(bary.x) * colours_[size_t(t.x)] + float(bary.y) * colours_[size_t(t.y)] +
-                           float(bary.z) * colours_[size_t(t.z)];
+            int texture = face_texture_[size_t(tri)];
+            if (texture >= 0) {
+              const auto& uv = face_uv_[size_t(tri)];
+              glm::vec2 at = float(bary.x) * uv[0] + float(bary.y) * uv[1] + float(bary.z) * uv[2];
+              point.colour = textures_[size_t(texture)].sample(at);
+            } else {
+              point.colour = float(bary.x) * colours_[size_t(t.x)] + float(bary.y) * colours_[size_t(t.y)] +
+                             float(bary.z) * colours_[size_t(t.z)];
+            }
             if (!point.near) point.distance = d < 0 ? -band : band;
           } else {
             float magnitude = std::max(std::abs(d), band);
@@ -213,6 +297,9 @@ class MeshSource : public SurfaceSource {
   std::string path_;
   std::vector<glm::dvec3> positions_;
   std::vector<glm::vec3> face_normals_, colours_;
+  std::vector<int> face_texture_;  // index into textures_, or -1
+  std::vector<std::array<glm::vec2, 3>> face_uv_;
+  std::vector<Texture> textures_;
   size_t degenerate_ = 0;
   std::vector<glm::ivec3> triangles_;
   double area_ = 0;
