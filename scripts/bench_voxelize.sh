@@ -24,8 +24,18 @@ trap 'rm -rf "$WORK"' EXIT
 tar xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$WORK" data/meshes/bunny00.off
 OFF="$WORK/data/meshes/bunny00.off"
 # vdb_tool reads OBJ, not OFF: the same vertices and triangles.
-awk 'NR==1{next} NR==2{nv=$1; nf=$2; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
+awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
   "$OFF" > "$WORK/bunny.obj"
+
+# The same mesh with vertex colours (a smooth function of position), for
+# the bytes-per-voxel figure with colour.
+awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1;
+       print "ply\nformat ascii 1.0\nelement vertex " nv "\nproperty float x\nproperty float y\nproperty float z";
+       print "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face " nf;
+       print "property list uchar int vertex_indices\nend_header"; next}
+     nv>0{r=int(127+120*sin(40*$1)); g=int(127+120*sin(40*$2)); b=int(127+120*sin(40*$3));
+          print $1,$2,$3,r,g,b; nv--; next}
+     nf>0{print 3,$2,$3,$4; nf--}' "$OFF" > "$WORK/bunny_colour.ply"
 
 rss_mb() { awk '/Maximum resident set size/ {printf "%.0f", $6/1024}' "$1"; }
 wall_s() { awk -F': ' '/Elapsed \(wall clock\)/ {n=split($2,t,":"); s=0; for(i=1;i<=n;i++) s=s*60+t[i]; printf "%.2f", s}' "$1"; }
@@ -43,5 +53,19 @@ import json, sys
 r, path, svo_s, svo_mb, vdb_s, vdb_mb = sys.argv[1:]
 j = json.load(open(path))
 print(f"| {r} | {float(svo_s):.2f} | {svo_mb} | {j['voxels']:,} | {j['bytes_per_voxel']:.2f} | {float(vdb_s):.2f} | {vdb_mb} | {float(svo_s)/float(vdb_s):.2f} |")
+PY
+done
+
+echo
+echo "With vertex colours, by brick size, at ${RESOLUTIONS[0]}:"
+echo "| brick | channels | bricks | voxels | bytes | bytes/voxel | seconds |"
+echo "|---|---|---|---|---|---|---|"
+for b in 8 16; do
+  "$SVO" voxelize "$WORK/bunny_colour.ply" --resolution "${RESOLUTIONS[0]}" --brick "$b" -o "$WORK/c.svo" --json > "$WORK/c.json"
+  python3 - "$b" "$WORK/c.json" <<'PY'
+import json, sys
+b, path = sys.argv[1:]
+j = json.load(open(path))
+print(f"| {b} | {' '.join(j['channels'])} | {j['bricks']:,} | {j['voxels']:,} | {j['bytes']/2**20:.0f} MiB | {j['bytes_per_voxel']:.2f} | {j['seconds']:.2f} |")
 PY
 done

@@ -166,3 +166,73 @@ TEST(Mesh, BadFilesAreOneLineErrorsNamingTheFile) {
 }
 
 }  // namespace
+
+#include <OpenImageIO/imageio.h>
+
+namespace {
+
+// A unit square in z = 0 (two triangles, both sides closed by a thin box is
+// not needed: the level set of an open sheet is still a band around it) with
+// UVs spanning [0, 1]^2 and a texture red for u < 0.5, green beyond.
+std::string textured_square(const std::string& texture_name, bool write_texture) {
+  fs::path dir = temp_dir();
+  if (write_texture) {
+    const int w = 64, h = 64;
+    std::vector<unsigned char> pixels(size_t(w * h * 3));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        unsigned char* p = &pixels[size_t((y * w + x) * 3)];
+        p[0] = x < w / 2 ? 255 : 0, p[1] = x < w / 2 ? 0 : 255, p[2] = 0;
+      }
+    auto out = OIIO::ImageOutput::create((dir / texture_name).string());
+    EXPECT_TRUE(out);
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    EXPECT_TRUE(out->open((dir / texture_name).string(), spec));
+    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+  }
+  std::ofstream(dir / "square.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd " << texture_name << "\n";
+  std::string obj =
+      "mtllib square.mtl\nv -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+  return write_file("square.obj", obj);
+}
+
+TEST(Mesh, TextureColoursThroughUVs) {
+  auto mesh = voxelizer::load_mesh(textured_square("checker.png", true));
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  octree::Octree tree = voxelizer::voxelize(*mesh, options);
+  ASSERT_GE(tree.channel_index(octree::Channel::Colour), 0);
+  const uint32_t D = tree.depth_count - 1;
+  int cells = int(tree.finest_resolution()), red = 0, green = 0;
+  for (int x = 0; x <= cells; ++x)
+    for (int y = 0; y <= cells; ++y)
+      for (int z = 0; z <= cells; ++z) {
+        glm::vec3 p = octree::lattice_position(tree, D, {x, y, z});
+        if (std::abs(p.z) > 0.4f * tree.voxel_size(D) || std::abs(p.y) > 0.4f || std::abs(p.x) > 0.45f ||
+            std::abs(p.x) < 0.05f) {
+          continue;
+        }
+        auto v = octree::lattice_voxel(tree, D, {x, y, z});
+        ASSERT_TRUE(v.has_value());
+        glm::vec3 expected = p.x < 0 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        EXPECT_LT(glm::length(v->abar - expected), 0.02f) << p.x << " " << p.y;
+        (p.x < 0 ? red : green)++;
+      }
+  EXPECT_GT(red, 100);
+  EXPECT_GT(green, 100);
+}
+
+TEST(Mesh, MissingTextureIsAnErrorNamingIt) {
+  std::string obj = textured_square("absent.png", false);
+  try {
+    voxelizer::load_mesh(obj);
+    ADD_FAILURE() << "a mesh whose texture is missing was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("absent.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(obj), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

@@ -123,6 +123,7 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
   };
   tbb::enumerable_thread_specific<std::vector<Found>> found_local;
   tbb::enumerable_thread_specific<std::vector<FinePoint>> scratch;
+  tbb::enumerable_thread_specific<std::vector<int32_t>> filled_scratch;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
     auto& found = found_local.local();
     auto& points = scratch.local();
@@ -245,11 +246,15 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
   glm::vec3 colour_mean(colour_sum / double(samples.size()));
   bool colour_varies = false;
   for (const auto& s : samples) colour_varies = colour_varies || glm::length(s.colour - colour_mean) > 0.5f / 255.0f;
-  bool correlated = false, rough = false, bumpy = false;
-  size_t sloped = 0, anisotropic = 0;
+  // A channel is stored when it makes a visible difference somewhere: a
+  // colour-height correlation of at least 4/255 in 1% of the filled voxels,
+  // slopes anisotropic by a factor 2 (variances by 4) in 20% of the sloped ones.
+  bool rough = false, bumpy = false;
+  size_t filled = 0, correlated = 0, sloped = 0, anisotropic = 0;
   for (uint32_t d = 0; d < D; ++d) {
     for (const auto& v : levels[d].stats) {
-      correlated = correlated || std::max({std::abs(v.a_s.x), std::abs(v.a_s.y), std::abs(v.a_s.z)}) > 1.0f / 127.0f;
+      ++filled;
+      if (std::max({std::abs(v.a_s.x), std::abs(v.a_s.y), std::abs(v.a_s.z)}) >= 4.0f / 255.0f) ++correlated;
       bumpy = bumpy || v.sigma_h > 1e-4f * float(levels[d].voxel);
       float trace = v.slope_cov.x + v.slope_cov.y;
       rough = rough || trace > 1e-6f;
@@ -275,7 +280,7 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
     }
   }
   if (colour_varies) tree.channels.push_back({Channel::Colour, Encoding::Srgb8});
-  if (colour_varies && correlated) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
+  if (colour_varies && correlated * 100 >= filled) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
   tree.constant_colour = colour_mean;
   for (const auto& c : tree.channels) {
     tree.brick_data.emplace_back(size_t(tree.brick_count) * tree.samples_per_brick() * octree::encoding_bytes(c.encoding));
@@ -323,14 +328,30 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
             }
       } else {
         const float floor_distance = float(0.5 * level.voxel) - h;
+        // Filled-statistics index of every lattice point of the brick and a
+        // one-point apron around it: one hash lookup each, then array reads.
+        const int A = S + 2;
+        auto& filled = filled_scratch.local();
+        filled.assign(size_t(A * A * A), -1);
+        for (int z = 0; z < A; ++z)
+          for (int y = 0; y < A; ++y)
+            for (int x = 0; x < A; ++x) {
+              glm::ivec3 q = base + glm::ivec3(x - 1, y - 1, z - 1);
+              if (glm::any(glm::lessThan(q, glm::ivec3(0))) || glm::any(glm::greaterThan(q, glm::ivec3(int(level.cells))))) {
+                continue;
+              }
+              auto it = level.filled.find(pack(q));
+              if (it != level.filled.end()) filled[size_t((z * A + y) * A + x)] = int32_t(it->second);
+            }
+        auto filled_at = [&](int x, int y, int z) { return filled[size_t(((z + 1) * A + y + 1) * A + x + 1)]; };
         for (int z = 0; z < S; ++z)
           for (int y = 0; y < S; ++y)
             for (int x = 0; x < S; ++x) {
               glm::ivec3 p = base + glm::ivec3(x, y, z);
               octree::Voxel v;
-              auto it = level.filled.find(pack(p));
-              if (it != level.filled.end()) {
-                v = level.stats[it->second];
+              int32_t self = filled_at(x, y, z);
+              if (self >= 0) {
+                v = level.stats[size_t(self)];
               } else {
                 // No surface in the footprint: attributes from filled neighbours,
                 // the distance from their planes, never below the footprint's half size.
@@ -339,18 +360,12 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
                 sum.abar = glm::vec3(0);
                 float hsum = 0;
                 int count = 0;
-                glm::dvec3 here = lattice.origin + glm::dvec3(p) * level.voxel;
                 for (int k = 0; k < 27; ++k) {
-                  glm::ivec3 q = p + glm::ivec3(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
-                  if (k == 13 || glm::any(glm::lessThan(q, glm::ivec3(0))) ||
-                      glm::any(glm::greaterThan(q, glm::ivec3(int(level.cells))))) {
-                    continue;
-                  }
-                  auto nb = level.filled.find(pack(q));
-                  if (nb == level.filled.end()) continue;
-                  const octree::Voxel& u = level.stats[nb->second];
-                  glm::dvec3 there = lattice.origin + glm::dvec3(q) * level.voxel;
-                  hsum += u.hbar + float(glm::dot(glm::dvec3(u.nbar), here - there));
+                  glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
+                  int32_t nb = k == 13 ? -1 : filled_at(x + o.x, y + o.y, z + o.z);
+                  if (nb < 0) continue;
+                  const octree::Voxel& u = level.stats[size_t(nb)];
+                  hsum += u.hbar - float(double(glm::dot(u.nbar, glm::vec3(o))) * level.voxel);
                   sum.nbar += u.nbar;
                   sum.sigma_h += u.sigma_h;
                   sum.slope_cov += u.slope_cov;

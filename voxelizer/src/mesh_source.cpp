@@ -222,8 +222,8 @@ class MeshSource : public SurfaceSource {
     for (const auto& t : triangles_) tris.emplace_back(uint32_t(t.x), uint32_t(t.y), uint32_t(t.z));
     openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
     index_ = openvdb::Int32Grid::create(-1);
-    distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, kBandVoxels + 1,
-                                                                 kBandVoxels + 1, 0, index_.get());
+    distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, kBandVoxels, kBandVoxels, 0,
+                                                                 index_.get());
   }
 
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
