@@ -203,3 +203,62 @@ TEST(Statistics, LevelEqualsDirectComputationFromTheFinestSamples) {
 }
 
 }  // namespace
+
+#include <filesystem>
+
+#include "svo/octree/svo_file.h"
+
+namespace {
+
+// Grooves along the cylinder's axis: slopes vary across the grooves only, so
+// the file models anisotropic slopes, and coarse voxels on the side show it.
+TEST(Statistics, GroovedCylinderIsAnisotropic) {
+  auto scene = voxelizer::make_scene("grooved-cylinder");
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 128;
+  octree::Octree tree = voxelizer::voxelize(*scene, options);
+  ASSERT_GE(tree.channel_index(octree::Channel::SlopeCov), 0);
+  EXPECT_LT(tree.channel_index(octree::Channel::SlopeDev), 0);
+  const uint32_t d = 2;
+  int cells = int(tree.brick_size << d), strong = 0, sloped = 0;
+  for (int z = 0; z <= cells; ++z)
+    for (int y = 0; y <= cells; ++y)
+      for (int x = 0; x <= cells; ++x) {
+        glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
+        float rho = std::sqrt(p.x * p.x + p.z * p.z);
+        if (std::abs(p.y) > 0.3f || std::abs(rho - 0.5f) > 0.3f * tree.voxel_size(d)) continue;
+        auto v = octree::lattice_voxel(tree, d, {x, y, z});
+        ASSERT_TRUE(v.has_value());
+        glm::vec3 c = v->slope_cov;
+        float trace = c.x + c.y, diff = c.x - c.y, root = std::sqrt(diff * diff + 4 * c.z * c.z);
+        if (trace < 1e-3f) continue;
+        ++sloped;
+        if (0.5f * (trace + root) > 10.0f * std::max(0.5f * (trace - root), 1e-9f)) ++strong;
+      }
+  EXPECT_GT(sloped, 20);
+  EXPECT_GT(strong, sloped * 8 / 10) << strong << " of " << sloped;
+}
+
+// A voxelized scene survives the file bit for bit.
+TEST(Statistics, VoxelizedSceneRoundTripsThroughTheFile) {
+  auto scene = voxelizer::make_scene("bumpy-sphere");
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  octree::Octree tree = voxelizer::voxelize(*scene, options);
+  auto path = std::filesystem::temp_directory_path() / ("svo_roundtrip_" + std::to_string(::getpid()) + ".svo");
+  octree::write_svo(path.string(), tree);
+  octree::Octree back = octree::load_svo(path.string());
+  std::filesystem::remove(path);
+  EXPECT_EQ(back.brick_count, tree.brick_count);
+  EXPECT_EQ(back.depth_first_node, tree.depth_first_node);
+  ASSERT_EQ(back.nodes.size(), tree.nodes.size());
+  for (size_t i = 0; i < tree.nodes.size(); ++i) {
+    ASSERT_EQ(back.nodes[i].children, tree.nodes[i].children);
+    ASSERT_EQ(back.nodes[i].brick, tree.nodes[i].brick);
+  }
+  EXPECT_EQ(back.brick_data, tree.brick_data);
+  EXPECT_EQ(back.origin, tree.origin);
+  EXPECT_EQ(back.size, tree.size);
+}
+
+}  // namespace
