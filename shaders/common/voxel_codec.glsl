@@ -13,15 +13,20 @@ SVO_FN vec2 svo_oct_wrap(vec2 v) {
 // Oct24: two 12-bit coordinates. The encoder tries the 4 codes around the
 // projected point and keeps the one that decodes closest to n (Cigolle et
 // al. 2014): worst angular error 0.04 degrees (plain rounding: 0.06).
-SVO_FN vec3 svo_decode_oct24(uint bits) {
-  vec2 p = vec2(float(bits & 4095u), float((bits >> 12u) & 4095u)) / 4095.0f * 2.0f - vec2(1.0f);
+// The point of the octahedron |x| + |y| + |z| = 1 that a code stands for.
+SVO_FN vec3 svo_oct24_unfold(uint bits) {
+  vec2 p = vec2(float(bits & 4095u), float((bits >> 12u) & 4095u)) * (2.0f / 4095.0f) - vec2(1.0f);
   vec3 n = vec3(p.x, p.y, 1.0f - abs(p.x) - abs(p.y));
   if (n.z < 0.0f) {
     vec2 w = svo_oct_wrap(vec2(n.x, n.y));
     n.x = w.x;
     n.y = w.y;
   }
-  return normalize(n);
+  return n;
+}
+
+SVO_FN vec3 svo_decode_oct24(uint bits) {
+  return normalize(svo_oct24_unfold(bits));
 }
 
 SVO_FN uint svo_encode_oct24(vec3 n) {
@@ -31,18 +36,21 @@ SVO_FN uint svo_encode_oct24(vec3 n) {
   vec2 p = vec2(n.x, n.y) / l1;
   if (n.z < 0.0f) p = svo_oct_wrap(p);
   vec2 q = clamp(p * 0.5f + vec2(0.5f), vec2(0.0f), vec2(1.0f)) * 4095.0f;
-  vec3 unit = n / length(n);
-  // Compare squared distances: dot products near 1 would lose the
-  // differences (1e-7) to float rounding.
+  // Compare sin^2 of the angle to n, |d x n|^2 / |d|^2 (times 1/|n|^2): precise
+  // for small angles (a dot product near 1 would lose them), compared by
+  // cross-multiplying, without sqrt or division.
   uint best = 0u;
-  float best_d2 = 10.0f;
+  float best_c2 = 1.0f, best_d2 = 0.0f;
+  uint x0 = uint(q.x), y0 = uint(q.y);  // q >= 0: truncation is floor
   for (int k = 0; k < 4; ++k) {
-    uint x = uint(min(floor(q.x) + float(k & 1), 4095.0f));
-    uint y = uint(min(floor(q.y) + float(k >> 1), 4095.0f));
+    uint x = min(x0 + uint(k & 1), 4095u);
+    uint y = min(y0 + uint(k >> 1), 4095u);
     uint code = x | (y << 12u);
-    vec3 e = svo_decode_oct24(code) - unit;
-    float d2 = dot(e, e);
-    if (d2 < best_d2) {
+    vec3 d = svo_oct24_unfold(code);
+    vec3 c = cross(d, n);
+    float c2 = dot(c, c), d2 = dot(d, d);
+    if (dot(d, n) > 0.0f && (best_d2 == 0.0f || c2 * best_d2 < best_c2 * d2)) {
+      best_c2 = c2;
       best_d2 = d2;
       best = code;
     }

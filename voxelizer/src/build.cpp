@@ -129,7 +129,7 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
     auto& points = scratch.local();
     for (size_t c = r.begin(); c != r.end(); ++c) {
       glm::ivec3 lo = candidates[c] * int(B), hi = lo + glm::ivec3(int(B) - 1);
-      source.evaluate(lo, hi, points);
+      source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2; a margin for rounding
       size_t i = 0;
       for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)

@@ -249,11 +249,12 @@ class MeshSource : public SurfaceSource {
     return out;
   }
 
-  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const override {
+  using SurfaceSource::evaluate;
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const override {
     out.clear();
     auto dist = distance_->getConstAccessor();
     auto index = index_->getConstAccessor();
-    const float band = kBandVoxels * float(lattice_.voxel);
+    const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
     const float background = distance_->background();
     for (int z = lo.z; z <= hi.z; ++z)
       for (int y = lo.y; y <= hi.y; ++y)

@@ -82,9 +82,9 @@ std::vector<glm::ivec3> AnalyticScene::candidate_bricks(uint32_t brick_size) con
   return out;
 }
 
-void AnalyticScene::evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const {
+void AnalyticScene::evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const {
   out.clear();
-  const float band = kBandVoxels * float(lattice_.voxel);
+  const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
   for (int z = lo.z; z <= hi.z; ++z) {
     for (int y = lo.y; y <= hi.y; ++y) {
       for (int x = lo.x; x <= hi.x; ++x) {

@@ -43,7 +43,8 @@ class AnalyticScene : public SurfaceSource {
 
   void prepare(const Lattice& lattice) override { lattice_ = lattice; }
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override;
-  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const override;
+  using SurfaceSource::evaluate;
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const override;
 
  protected:
   Lattice lattice_;

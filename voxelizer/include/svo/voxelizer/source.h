@@ -58,7 +58,12 @@ class SurfaceSource {
   virtual std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const = 0;
   // Evaluates lattice points lo..hi (inclusive, x fastest, then y, then z)
   // into `out`. Points outside 0..resolution are allowed. Thread-safe.
-  virtual void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const = 0;
+  // `near_within` (scene units, at most the band) narrows which points get
+  // the closest point, normal and colour, for callers that need fewer.
+  virtual void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const = 0;
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const {
+    evaluate(lo, hi, out, 1e30f);
+  }
 };
 
 }  // namespace svo::voxelizer
