@@ -27,15 +27,20 @@ OFF="$WORK/data/meshes/bunny00.off"
 awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
   "$OFF" > "$WORK/bunny.obj"
 
-# The same mesh with vertex colours (a smooth function of position), for
-# the bytes-per-voxel figure with colour.
-awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1;
+# The same mesh with vertex colours, smooth functions of position: one that
+# varies fast (it correlates with height inside coarse voxels, so a_s is
+# stored too) and one that varies slowly (colour alone).
+colour_ply() {  # FREQUENCY OUT
+  awk -v f="$1" 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1;
        print "ply\nformat ascii 1.0\nelement vertex " nv "\nproperty float x\nproperty float y\nproperty float z";
        print "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face " nf;
        print "property list uchar int vertex_indices\nend_header"; next}
-     nv>0{r=int(127+120*sin(40*$1)); g=int(127+120*sin(40*$2)); b=int(127+120*sin(40*$3));
+     nv>0{r=int(127+100*sin(f*$1)); g=int(127+100*sin(f*$2)); b=int(127+100*sin(f*$3));
           print $1,$2,$3,r,g,b; nv--; next}
-     nf>0{print 3,$2,$3,$4; nf--}' "$OFF" > "$WORK/bunny_colour.ply"
+     nf>0{print 3,$2,$3,$4; nf--}' "$OFF" > "$2"
+}
+colour_ply 40 "$WORK/bunny_colour_fast.ply"
+colour_ply 4 "$WORK/bunny_colour_slow.ply"
 
 rss_mb() { awk '/Maximum resident set size/ {printf "%.0f", $6/1024}' "$1"; }
 wall_s() { awk -F': ' '/Elapsed \(wall clock\)/ {n=split($2,t,":"); s=0; for(i=1;i<=n;i++) s=s*60+t[i]; printf "%.2f", s}' "$1"; }
@@ -58,14 +63,16 @@ done
 
 echo
 echo "With vertex colours, by brick size, at ${RESOLUTIONS[0]}:"
-echo "| brick | channels | bricks | voxels | bytes | bytes/voxel | seconds |"
-echo "|---|---|---|---|---|---|---|"
-for b in 8 16; do
-  "$SVO" voxelize "$WORK/bunny_colour.ply" --resolution "${RESOLUTIONS[0]}" --brick "$b" -o "$WORK/c.svo" --json > "$WORK/c.json"
-  python3 - "$b" "$WORK/c.json" <<'PY'
+echo "| colour | brick | channels | bricks | voxels | bytes | bytes/voxel | seconds |"
+echo "|---|---|---|---|---|---|---|---|"
+for variant in fast slow; do
+  for b in 8 16; do
+    "$SVO" voxelize "$WORK/bunny_colour_$variant.ply" --resolution "${RESOLUTIONS[0]}" --brick "$b" -o "$WORK/c.svo" --json > "$WORK/c.json"
+    python3 - "$variant" "$b" "$WORK/c.json" <<'PY'
 import json, sys
-b, path = sys.argv[1:]
+variant, b, path = sys.argv[1:]
 j = json.load(open(path))
-print(f"| {b} | {' '.join(j['channels'])} | {j['bricks']:,} | {j['voxels']:,} | {j['bytes']/2**20:.0f} MiB | {j['bytes_per_voxel']:.2f} | {j['seconds']:.2f} |")
+print(f"| {variant} | {b} | {' '.join(j['channels'])} | {j['bricks']:,} | {j['voxels']:,} | {j['bytes']/2**20:.0f} MiB | {j['bytes_per_voxel']:.2f} | {j['seconds']:.2f} |")
 PY
+  done
 done
