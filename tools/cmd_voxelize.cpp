@@ -73,7 +73,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0.0f, 1.0f))
       ->group("Appearance");
   cmd->add_option("--roughness", a->roughness,
-                  "Micro-BRDF slope deviation sigma_rho (default 0.1; MTL material roughness is not read yet)")
+                  "Micro-BRDF slope deviation sigma_rho (default: the OBJ material's Pr or Ns, else 0.1)")
       ->check(CLI::Range(0.0f, 4.0f))
       ->group("Appearance");
   cmd->add_option("--max-memory", a->max_memory_mb, "Refuse to start above this estimated memory, MiB (default: available memory)")

@@ -236,3 +236,24 @@ TEST(Mesh, MissingTextureIsAnErrorNamingIt) {
 }
 
 }  // namespace
+
+namespace {
+
+// The material's roughness becomes the micro-BRDF slope variance sigma_rho^2.
+TEST(Mesh, MaterialRoughnessFromTheObjMaterial) {
+  auto with_material = [](const std::string& name, const std::string& mtl) {
+    fs::path dir = temp_dir();
+    std::ofstream(dir / (name + ".mtl")) << mtl;
+    return write_file(name + ".obj", "mtllib " + name + ".mtl\nusemtl m\n" + cube_obj());
+  };
+  EXPECT_NEAR(voxelizer::load_mesh(with_material("phong", "newmtl m\nNs 98\n"))->sigma_rho2(), 0.01f, 1e-6f);
+  EXPECT_NEAR(voxelizer::load_mesh(with_material("pbr", "newmtl m\nNs 10\nPr 0.5\n"))->sigma_rho2(), 0.125f, 1e-6f);
+  EXPECT_NEAR(voxelizer::load_mesh(with_material("two", "newmtl a\nPr 0.2\nnewmtl b\nPr 0.4\n"))->sigma_rho2(),
+              (0.02f + 0.08f) / 2, 1e-6f);
+  voxelizer::MeshOptions given;
+  given.sigma_rho = 0.3f;
+  EXPECT_NEAR(voxelizer::load_mesh(with_material("given", "newmtl m\nNs 98\n"), given)->sigma_rho2(), 0.09f, 1e-6f);
+  EXPECT_NEAR(voxelizer::load_mesh(write_file("plain.obj", cube_obj()))->sigma_rho2(), 0.01f, 1e-6f);
+}
+
+}  // namespace

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <mutex>
 #include <stdexcept>
 
@@ -107,6 +109,45 @@ struct Texture {
   }
 };
 
+// Slope variance of the OBJ's materials (the mean over the materials of its
+// mtllib files): PBR roughness "Pr" alpha gives sigma^2 = alpha^2 / 2, a
+// Phong exponent "Ns" the Beckmann equivalent sigma^2 = 1 / (Ns + 2).
+// Returns a negative value when the file names no such material.
+float obj_material_slope_variance(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::ifstream obj(path);
+  std::string line;
+  double sum = 0;
+  int count = 0;
+  while (std::getline(obj, line)) {
+    if (line.rfind("mtllib", 0) != 0) continue;
+    std::istringstream names(line.substr(6));
+    std::string name;
+    while (names >> name) {
+      std::ifstream mtl(fs::path(path).parent_path() / name);
+      std::string m;
+      double pr = -1, ns = -1;
+      bool in_material = false;
+      auto flush = [&] {
+        if (!in_material) return;
+        if (pr >= 0) sum += pr * pr / 2, ++count;
+        else if (ns >= 0) sum += 1.0 / (ns + 2.0), ++count;
+        pr = ns = -1;
+      };
+      while (std::getline(mtl, m)) {
+        std::istringstream in(m);
+        std::string key;
+        in >> key;
+        if (key == "newmtl") flush(), in_material = true;
+        if (key == "Pr") in >> pr;
+        if (key == "Ns") in >> ns;
+      }
+      flush();
+    }
+  }
+  return count ? float(sum / count) : -1.0f;
+}
+
 class MeshSource : public SurfaceSource {
  public:
   MeshSource(const std::string& path, const MeshOptions& options) : path_(path) {
@@ -128,7 +169,10 @@ class MeshSource : public SurfaceSource {
     if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
     bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
     glm::vec3 constant = options.colour.value_or(glm::vec3(0.8f));
-    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : 0.01f;
+    float material = std::filesystem::path(path).extension() == ".obj" ? obj_material_slope_variance(path) : -1.0f;
+    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho
+                  : material >= 0       ? material
+                                        : 0.01f;
     for (auto v : mesh.vertices()) {
       auto p = mesh.point(v);
       glm::dvec3 q(p[0], p[1], p[2]);

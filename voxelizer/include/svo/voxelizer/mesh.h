@@ -16,7 +16,8 @@ namespace svo::voxelizer {
 struct MeshOptions {
   // Colour of a mesh without vertex colours (linear RGB); default 0.8 grey.
   std::optional<glm::vec3> colour;
-  // Micro-BRDF slope deviation sigma_rho; < 0: 0.1.
+  // Micro-BRDF slope deviation sigma_rho; < 0: from the OBJ's materials
+  // (Pr roughness, else Ns Phong exponent), else 0.1.
   float sigma_rho = -1;
 };
 
