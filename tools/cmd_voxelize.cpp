@@ -50,11 +50,14 @@ double available_memory_mb() {
 }  // namespace
 
 void add_voxelize_command(CLI::App& app, int& exit_code) {
-  auto* cmd = app.add_subcommand("voxelize", "Build a pre-filtered sparse voxel octree from a mesh or a built-in scene");
+  auto* cmd =
+      app.add_subcommand("voxelize", "Build a pre-filtered sparse voxel octree from a mesh or a built-in scene");
   auto a = std::make_shared<VoxelizeArgs>();
   auto* input = cmd->add_option("input", a->input, "Mesh file: OBJ, PLY, OFF or STL")->group("Input");
-  auto* scene = cmd->add_option("--scene", a->scene, "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, grooved-cylinder")
-                    ->group("Input");
+  auto* scene =
+      cmd->add_option("--scene", a->scene,
+                      "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, grooved-cylinder")
+          ->group("Input");
   input->excludes(scene);
   cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed)")
       ->required()
@@ -76,10 +79,12 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                   "Micro-BRDF slope deviation sigma_rho (default: the OBJ material's Pr or Ns, else 0.1)")
       ->check(CLI::Range(0.0f, 4.0f))
       ->group("Appearance");
-  cmd->add_option("--max-memory", a->max_memory_mb, "Refuse to start above this estimated memory, MiB (default: available memory)")
+  cmd->add_option("--max-memory", a->max_memory_mb,
+                  "Refuse to start above this estimated memory, MiB (default: available memory)")
       ->check(CLI::PositiveNumber)
       ->group("Limits");
-  cmd->add_flag("--json", a->json, "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
+  cmd->add_flag("--json", a->json,
+                "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
   cmd->callback([a, &exit_code] {
     if (a->input.empty() == a->scene.empty()) throw std::invalid_argument("voxelize: give a mesh file or --scene NAME");
     std::unique_ptr<voxelizer::SurfaceSource> source;

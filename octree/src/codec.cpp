@@ -9,52 +9,80 @@ namespace svo::octree {
 
 const char* channel_name(Channel channel) {
   switch (channel) {
-    case Channel::Distance: return "distance";
-    case Channel::Normal: return "normal";
-    case Channel::HeightDev: return "height_dev";
-    case Channel::SlopeDev: return "slope_dev";
-    case Channel::SlopeCov: return "slope_cov";
-    case Channel::Colour: return "colour";
-    case Channel::ColourSlope: return "colour_slope";
+    case Channel::Distance:
+      return "distance";
+    case Channel::Normal:
+      return "normal";
+    case Channel::HeightDev:
+      return "height_dev";
+    case Channel::SlopeDev:
+      return "slope_dev";
+    case Channel::SlopeCov:
+      return "slope_cov";
+    case Channel::Colour:
+      return "colour";
+    case Channel::ColourSlope:
+      return "colour_slope";
   }
   return "unknown";
 }
 
 const char* encoding_name(Encoding encoding) {
   switch (encoding) {
-    case Encoding::F32: return "f32";
-    case Encoding::Oct24: return "oct24";
-    case Encoding::U8LogRelative: return "u8_log_relative";
-    case Encoding::U8LogSlope: return "u8_log_slope";
-    case Encoding::Cov3x8: return "cov3x8";
-    case Encoding::Srgb8: return "srgb8";
-    case Encoding::Signed8: return "s8x3";
+    case Encoding::F32:
+      return "f32";
+    case Encoding::Oct24:
+      return "oct24";
+    case Encoding::U8LogRelative:
+      return "u8_log_relative";
+    case Encoding::U8LogSlope:
+      return "u8_log_slope";
+    case Encoding::Cov3x8:
+      return "cov3x8";
+    case Encoding::Srgb8:
+      return "srgb8";
+    case Encoding::Signed8:
+      return "s8x3";
   }
   return "unknown";
 }
 
 uint32_t encoding_bytes(Encoding encoding) {
   switch (encoding) {
-    case Encoding::F32: return 4;
-    case Encoding::Oct24: return 3;
-    case Encoding::U8LogRelative: return 1;
-    case Encoding::U8LogSlope: return 1;
-    case Encoding::Cov3x8: return 3;
-    case Encoding::Srgb8: return 3;
-    case Encoding::Signed8: return 3;
+    case Encoding::F32:
+      return 4;
+    case Encoding::Oct24:
+      return 3;
+    case Encoding::U8LogRelative:
+      return 1;
+    case Encoding::U8LogSlope:
+      return 1;
+    case Encoding::Cov3x8:
+      return 3;
+    case Encoding::Srgb8:
+      return 3;
+    case Encoding::Signed8:
+      return 3;
   }
   return 0;
 }
 
 bool encoding_fits(Channel channel, Encoding encoding) {
   switch (channel) {
-    case Channel::Distance: return encoding == Encoding::F32;
-    case Channel::Normal: return encoding == Encoding::Oct24;
-    case Channel::HeightDev: return encoding == Encoding::U8LogRelative || encoding == Encoding::F32;
-    case Channel::SlopeDev: return encoding == Encoding::U8LogSlope || encoding == Encoding::F32;
-    case Channel::SlopeCov: return encoding == Encoding::Cov3x8;
-    case Channel::Colour: return encoding == Encoding::Srgb8;
-    case Channel::ColourSlope: return encoding == Encoding::Signed8;
+    case Channel::Distance:
+      return encoding == Encoding::F32;
+    case Channel::Normal:
+      return encoding == Encoding::Oct24;
+    case Channel::HeightDev:
+      return encoding == Encoding::U8LogRelative || encoding == Encoding::F32;
+    case Channel::SlopeDev:
+      return encoding == Encoding::U8LogSlope || encoding == Encoding::F32;
+    case Channel::SlopeCov:
+      return encoding == Encoding::Cov3x8;
+    case Channel::Colour:
+      return encoding == Encoding::Srgb8;
+    case Channel::ColourSlope:
+      return encoding == Encoding::Signed8;
   }
   return false;
 }
@@ -82,9 +110,7 @@ const uint8_t* sample_ptr(const Octree& tree, size_t c, uint64_t brick, uint32_t
   return tree.brick_data[c].data() + (brick * tree.samples_per_brick() + sample) * bytes;
 }
 
-void put3(uint8_t* p, uint32_t a, uint32_t b, uint32_t c) {
-  p[0] = uint8_t(a), p[1] = uint8_t(b), p[2] = uint8_t(c);
-}
+void put3(uint8_t* p, uint32_t a, uint32_t b, uint32_t c) { p[0] = uint8_t(a), p[1] = uint8_t(b), p[2] = uint8_t(c); }
 
 }  // namespace
 
@@ -95,9 +121,10 @@ void encode_voxel(Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth,
     const ChannelInfo& info = tree.channels[c];
     switch (info.encoding) {
       case Encoding::F32: {
-        float x = info.channel == Channel::Distance    ? v.hbar
-                  : info.channel == Channel::HeightDev ? v.sigma_h
-                                                       : std::sqrt(std::max(0.0f, 0.5f * (v.slope_cov.x + v.slope_cov.y)));
+        float x = info.channel == Channel::Distance ? v.hbar
+                  : info.channel == Channel::HeightDev
+                      ? v.sigma_h
+                      : std::sqrt(std::max(0.0f, 0.5f * (v.slope_cov.x + v.slope_cov.y)));
         std::memcpy(p, &x, 4);
         break;
       }

@@ -1,16 +1,16 @@
 // Meshes through OpenMesh and OpenVDB: formats, vertex colours, distances,
 // and clear errors for files that are not usable meshes.
-#include <gtest/gtest.h>
+#include "svo/voxelizer/mesh.h"
 
-#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
-#include "svo/voxelizer/mesh.h"
 
 namespace {
 using namespace svo;
@@ -37,7 +37,8 @@ std::string write_file(const std::string& name, const std::string& text) {
 std::string cube_off() {
   std::string s = "OFF\n8 12 0\n";
   for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (auto& t : kTriangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  for (auto& t : kTriangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
   return s;
 }
 
@@ -51,14 +52,17 @@ std::string cube_ply() {
     s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) +
          (c[2] < 0 ? " 255 0 0\n" : " 0 0 255\n");
   }
-  for (auto& t : kTriangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  for (auto& t : kTriangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
   return s;
 }
 
 std::string cube_obj() {
   std::string s;
-  for (auto& c : kCorners) s += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (auto& t : kTriangles) s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  for (auto& c : kCorners)
+    s += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (auto& t : kTriangles)
+    s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
   return s;
 }
 
@@ -69,8 +73,10 @@ std::string cube_stl() {
     glm::vec3 b(kCorners[t[1]][0], kCorners[t[1]][1], kCorners[t[1]][2]);
     glm::vec3 c(kCorners[t[2]][0], kCorners[t[2]][1], kCorners[t[2]][2]);
     glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
-    s += "facet normal " + std::to_string(n.x) + " " + std::to_string(n.y) + " " + std::to_string(n.z) + "\nouter loop\n";
-    for (glm::vec3 v : {a, b, c}) s += "vertex " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
+    s += "facet normal " + std::to_string(n.x) + " " + std::to_string(n.y) + " " + std::to_string(n.z) +
+         "\nouter loop\n";
+    for (glm::vec3 v : {a, b, c})
+      s += "vertex " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
     s += "endloop\nendfacet\n";
   }
   return s + "endsolid cube\n";

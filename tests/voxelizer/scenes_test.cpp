@@ -1,9 +1,9 @@
 // The built-in procedural scenes: names, bounds, distance functions.
+#include "svo/voxelizer/scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
-
-#include "svo/voxelizer/scenes.h"
 
 namespace {
 using namespace svo::voxelizer;

@@ -1,17 +1,17 @@
 // Pre-filtered statistics (DESIGN section 6) on surfaces with a known answer:
 // a plane, a Gaussian height field, colour a = abar + a_s s(h), and a direct
 // recomputation from the finest samples.
+#include "svo/voxelizer/statistics.h"
+
 #include <gtest/gtest.h>
 
-#include <glm/geometric.hpp>
-
 #include <cmath>
+#include <glm/geometric.hpp>
 
 #include "common/shared_math.h"
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
 #include "svo/voxelizer/scenes.h"
-#include "svo/voxelizer/statistics.h"
 
 namespace {
 using namespace svo;

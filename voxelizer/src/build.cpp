@@ -1,6 +1,5 @@
 #include "svo/voxelizer/build.h"
 
-#include <glm/geometric.hpp>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -8,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
@@ -57,9 +57,7 @@ void add_bricks_holding(glm::ivec3 p, int brick, int bricks_per_axis, std::unord
 
 struct Clock {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
 };
 
 }  // namespace
@@ -88,6 +86,342 @@ double estimate_memory_bytes(const SurfaceSource& source, uint32_t resolution, u
   return samples * per_sample + brick_bytes + 64.0 * 1024 * 1024;
 }
 
+namespace {
+
+struct BrickJob {
+  uint32_t depth;
+  glm::ivec3 coords;
+};
+
+// One voxelize() call: its stages share the lattice, the samples, the levels
+// and the tree under construction.
+struct Builder {
+  SurfaceSource& source;
+  const VoxelizeOptions& options;
+  VoxelizeReport& rep;
+  const uint32_t B, N;
+  Clock clock;
+  Lattice lattice;
+  uint32_t depth_count = 1, D = 0;
+  float h = 0;
+  std::vector<SurfaceSample> samples;
+  std::vector<Level> levels;
+  octree::Octree tree;
+  std::vector<BrickJob> jobs;
+  glm::vec3 colour_mean{0};
+  tbb::enumerable_thread_specific<std::vector<FinePoint>> scratch;
+  tbb::enumerable_thread_specific<std::vector<int32_t>> filled_scratch;
+
+  Builder(SurfaceSource& s, const VoxelizeOptions& o, VoxelizeReport& r)
+      : source(s), options(o), rep(r), B(o.brick_size), N(o.resolution) {}
+
+  void progress(const std::string& stage, double f) const {
+    if (options.progress) options.progress(stage, f);
+  }
+
+  void prepare() {
+    lattice = make_lattice(source.bounds(), N);
+    progress("distance field", 0.0);
+    source.prepare(lattice);
+    rep.seconds_source = clock.seconds();
+    while ((B << (depth_count - 1)) < N) ++depth_count;
+    D = depth_count - 1;
+    h = float(lattice.voxel);
+  }
+
+  void collect_samples() {
+    // --- Finest samples: lattice points within half a voxel of the surface.
+    progress("surface samples", 0.15);
+    std::vector<glm::ivec3> candidates = source.candidate_bricks(B);
+    struct Found {
+      Key key;
+      SurfaceSample sample;
+    };
+    tbb::enumerable_thread_specific<std::vector<Found>> found_local;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+      auto& found = found_local.local();
+      auto& points = scratch.local();
+      for (size_t c = r.begin(); c != r.end(); ++c) {
+        glm::ivec3 lo = candidates[c] * int(B), hi = lo + glm::ivec3(int(B) - 1);
+        source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2; a margin for rounding
+        size_t i = 0;
+        for (int z = lo.z; z <= hi.z; ++z)
+          for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x, ++i) {
+              const FinePoint& p = points[i];
+              if (p.near && std::abs(p.distance) <= 0.5f * h) {
+                found.push_back({pack({x, y, z}), {p.closest, p.normal, p.colour}});
+              }
+            }
+      }
+    });
+    std::vector<Found> found;
+    for (auto& f : found_local) found.insert(found.end(), f.begin(), f.end());
+    tbb::parallel_sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.key < b.key; });
+    if (found.empty()) {
+      throw std::runtime_error("the surface leaves no sample at resolution " + std::to_string(N));
+    }
+    samples.resize(found.size());
+    levels.resize(depth_count);
+    for (uint32_t d = 0; d < depth_count; ++d) {
+      levels[d].cells = B << d;
+      levels[d].voxel = lattice.voxel * double(N / levels[d].cells);
+    }
+    for (size_t i = 0; i < found.size(); ++i) {
+      samples[i] = found[i].sample;
+      add_bricks_holding(unpack(found[i].key), int(B), int(N / B), levels[D].bricks);
+    }
+    rep.samples = samples.size();
+    found = {};
+    rep.seconds_samples = clock.seconds() - rep.seconds_source;
+  }
+
+  void coarse_statistics() {
+    // --- Coarser levels: statistics over box footprints centred on lattice points.
+    for (int d = int(D) - 1; d >= 0; --d) {
+      progress("statistics depth " + std::to_string(d), 0.3 + 0.2 * double(D - d) / D);
+      Level& level = levels[size_t(d)];
+      std::vector<std::pair<Key, uint32_t>> keyed(samples.size());
+      tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
+        glm::dvec3 q = (glm::dvec3(samples[i].position) - lattice.origin) / level.voxel;
+        glm::ivec3 k = glm::clamp(glm::ivec3(glm::round(q)), glm::ivec3(0), glm::ivec3(int(level.cells)));
+        keyed[i] = {pack(k), uint32_t(i)};
+      });
+      tbb::parallel_sort(keyed.begin(), keyed.end());
+      std::vector<size_t> starts;
+      for (size_t i = 0; i < keyed.size(); ++i) {
+        if (i == 0 || keyed[i].first != keyed[i - 1].first) starts.push_back(i);
+      }
+      starts.push_back(keyed.size());
+      std::vector<uint32_t> order(keyed.size());
+      for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+      level.stats.resize(starts.size() - 1);
+      tbb::parallel_for(size_t(0), starts.size() - 1, [&](size_t g) {
+        glm::ivec3 k = unpack(keyed[starts[g]].first);
+        glm::vec3 centre(lattice.origin + glm::dvec3(k) * level.voxel);
+        level.stats[g] =
+            surface_statistics(samples, std::span(order).subspan(starts[g], starts[g + 1] - starts[g]), centre);
+      });
+      level.filled.reserve(starts.size());
+      for (size_t g = 0; g + 1 < starts.size(); ++g) {
+        Key key = keyed[starts[g]].first;
+        level.filled.emplace(key, uint32_t(g));
+        add_bricks_holding(unpack(key), int(B), int(level.cells / B), level.bricks);
+      }
+      rep.filled_voxels += level.stats.size();
+    }
+    rep.filled_voxels += rep.samples;
+    // Every brick's parent exists.
+    for (uint32_t d = D; d >= 1; --d) {
+      for (Key k : levels[d].bricks) levels[d - 1].bricks.insert(pack(unpack(k) / 2));
+    }
+
+    rep.seconds_statistics = clock.seconds() - rep.seconds_source - rep.seconds_samples;
+  }
+
+  void build_topology() {
+    // --- Topology: nodes depth by depth, children in tiles of 8.
+    progress("topology", 0.5);
+    tree.brick_size = B;
+    tree.depth_count = depth_count;
+    tree.origin = glm::vec3(lattice.origin);
+    tree.size = float(lattice.voxel * N);
+    tree.sigma_rho2 = source.sigma_rho2();
+    std::vector<glm::ivec3> coords{glm::ivec3(0)};
+    tree.nodes.push_back({});
+    tree.depth_first_node = {0, 1};
+    for (uint32_t d = 0; d < depth_count; ++d) {
+      uint32_t first = tree.depth_first_node[d], last = tree.depth_first_node[d + 1];
+      for (uint32_t n = first; n < last; ++n) {
+        if (levels[d].bricks.count(pack(coords[n]))) {
+          tree.nodes[n].brick = uint32_t(jobs.size());
+          jobs.push_back({d, coords[n]});
+        }
+        if (d + 1 == depth_count || tree.nodes[n].brick == octree::kNone) continue;
+        bool any = false;
+        for (int i = 0; i < 8; ++i) {
+          any = any || levels[d + 1].bricks.count(pack(coords[n] * 2 + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
+        }
+        if (!any) continue;
+        tree.nodes[n].children = uint32_t(tree.nodes.size());
+        for (int i = 0; i < 8; ++i) {
+          tree.nodes.push_back({});
+          coords.push_back(coords[n] * 2 + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+        }
+      }
+      if (d + 1 < depth_count) tree.depth_first_node.push_back(uint32_t(tree.nodes.size()));
+    }
+    tree.brick_count = jobs.size();
+  }
+
+  void choose_channels() {
+    // --- Channels: only what this surface needs.
+    glm::dvec3 colour_sum(0);
+    for (const auto& s : samples) colour_sum += glm::dvec3(s.colour);
+    colour_mean = glm::vec3(colour_sum / double(samples.size()));
+    bool colour_varies = false;
+    for (const auto& s : samples) colour_varies = colour_varies || glm::length(s.colour - colour_mean) > 0.5f / 255.0f;
+    // A channel is stored when it makes a visible difference somewhere: a
+    // colour-height correlation of at least 4/255 in 1% of the filled voxels,
+    // slopes anisotropic by a factor 2 (variances by 4) in 20% of the sloped ones.
+    bool rough = false, bumpy = false;
+    size_t filled = 0, correlated = 0, sloped = 0, anisotropic = 0;
+    for (uint32_t d = 0; d < D; ++d) {
+      for (const auto& v : levels[d].stats) {
+        ++filled;
+        if (std::max({std::abs(v.a_s.x), std::abs(v.a_s.y), std::abs(v.a_s.z)}) >= 4.0f / 255.0f) ++correlated;
+        bumpy = bumpy || v.sigma_h > 1e-4f * float(levels[d].voxel);
+        float trace = v.slope_cov.x + v.slope_cov.y;
+        rough = rough || trace > 1e-6f;
+        if (trace > 1e-3f) {
+          ++sloped;
+          float diff = v.slope_cov.x - v.slope_cov.y;
+          float root = std::sqrt(diff * diff + 4 * v.slope_cov.z * v.slope_cov.z);
+          float major = 0.5f * (trace + root), minor = 0.5f * (trace - root);
+          if (major > 4.0f * std::max(minor, 0.0f)) ++anisotropic;
+        }
+      }
+    }
+    using octree::Channel;
+    using octree::Encoding;
+    tree.channels.push_back({Channel::Distance, Encoding::F32});
+    tree.channels.push_back({Channel::Normal, Encoding::Oct24});
+    if (bumpy) tree.channels.push_back({Channel::HeightDev, Encoding::U8LogRelative});
+    if (rough) {
+      if (sloped > 0 && anisotropic * 5 > sloped) {
+        tree.channels.push_back({Channel::SlopeCov, Encoding::Cov3x8});
+      } else {
+        tree.channels.push_back({Channel::SlopeDev, Encoding::U8LogSlope});
+      }
+    }
+    if (colour_varies) tree.channels.push_back({Channel::Colour, Encoding::Srgb8});
+    if (colour_varies && correlated * 100 >= filled) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
+    tree.constant_colour = colour_mean;
+    for (const auto& c : tree.channels) {
+      tree.brick_data.emplace_back(size_t(tree.brick_count) * tree.samples_per_brick() *
+                                   octree::encoding_bytes(c.encoding));
+    }
+  }
+
+  void fill_bricks() {
+    // --- Bricks: every lattice point of every stored brick.
+    progress("bricks", 0.55);
+    const int S = int(B) + 1;
+    std::atomic<size_t> done{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, jobs.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
+      auto& points = scratch.local();
+      std::vector<FinePoint> one;
+      for (size_t j = r.begin(); j != r.end(); ++j) {
+        const BrickJob& job = jobs[j];
+        const Level& level = levels[job.depth];
+        const glm::ivec3 base = job.coords * int(B);
+        if (job.depth == D) {
+          // Finest: exact values in the band. Points beyond it take the
+          // attributes of band neighbours inside the brick: a cone element that
+          // far from the surface covers nothing, so they never reach a pixel.
+          source.evaluate(base, base + int(B), points);
+          auto at = [&](int x, int y, int z) -> const FinePoint& { return points[size_t((z * S + y) * S + x)]; };
+          for (int z = 0; z < S; ++z)
+            for (int y = 0; y < S; ++y)
+              for (int x = 0; x < S; ++x) {
+                const FinePoint& p = at(x, y, z);
+                octree::Voxel v;
+                v.hbar = p.distance;
+                v.abar = colour_mean;
+                if (p.near) {
+                  v.nbar = p.normal;
+                  v.abar = p.colour;
+                } else {
+                  glm::vec3 n(0), a(0);
+                  int count = 0;
+                  for (int k = 0; k < 27; ++k) {
+                    int qx = x + k % 3 - 1, qy = y + (k / 3) % 3 - 1, qz = z + k / 9 - 1;
+                    if (qx < 0 || qy < 0 || qz < 0 || qx >= S || qy >= S || qz >= S) continue;
+                    const FinePoint& q = at(qx, qy, qz);
+                    if (q.near) n += q.normal, a += q.colour, ++count;
+                  }
+                  if (count) v.nbar = glm::normalize(n + glm::vec3(0, 0, 1e-12f)), v.abar = a / float(count);
+                }
+                octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
+              }
+        } else {
+          const float floor_distance = float(0.5 * level.voxel) - h;
+          // Filled-statistics index of every lattice point of the brick and a
+          // one-point apron around it: one hash lookup each, then array reads.
+          const int A = S + 2;
+          auto& filled = filled_scratch.local();
+          filled.assign(size_t(A * A * A), -1);
+          for (int z = 0; z < A; ++z)
+            for (int y = 0; y < A; ++y)
+              for (int x = 0; x < A; ++x) {
+                glm::ivec3 q = base + glm::ivec3(x - 1, y - 1, z - 1);
+                if (glm::any(glm::lessThan(q, glm::ivec3(0))) ||
+                    glm::any(glm::greaterThan(q, glm::ivec3(int(level.cells))))) {
+                  continue;
+                }
+                auto it = level.filled.find(pack(q));
+                if (it != level.filled.end()) filled[size_t((z * A + y) * A + x)] = int32_t(it->second);
+              }
+          auto filled_at = [&](int x, int y, int z) { return filled[size_t(((z + 1) * A + y + 1) * A + x + 1)]; };
+          for (int z = 0; z < S; ++z)
+            for (int y = 0; y < S; ++y)
+              for (int x = 0; x < S; ++x) {
+                glm::ivec3 p = base + glm::ivec3(x, y, z);
+                octree::Voxel v;
+                int32_t self = filled_at(x, y, z);
+                if (self >= 0) {
+                  v = level.stats[size_t(self)];
+                } else {
+                  // No surface in the footprint: attributes from filled neighbours,
+                  // the distance from their planes, never below the footprint's half size.
+                  octree::Voxel sum;
+                  sum.nbar = glm::vec3(0);
+                  sum.abar = glm::vec3(0);
+                  float hsum = 0;
+                  int count = 0;
+                  for (int k = 0; k < 27; ++k) {
+                    glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
+                    int32_t nb = k == 13 ? -1 : filled_at(x + o.x, y + o.y, z + o.z);
+                    if (nb < 0) continue;
+                    const octree::Voxel& u = level.stats[size_t(nb)];
+                    hsum += u.hbar - float(double(glm::dot(u.nbar, glm::vec3(o))) * level.voxel);
+                    sum.nbar += u.nbar;
+                    sum.sigma_h += u.sigma_h;
+                    sum.slope_cov += u.slope_cov;
+                    sum.abar += u.abar;
+                    sum.a_s += u.a_s;
+                    ++count;
+                  }
+                  if (count) {
+                    float inv = 1.0f / float(count);
+                    v.nbar = glm::normalize(sum.nbar + glm::vec3(0, 0, 1e-12f));
+                    v.sigma_h = sum.sigma_h * inv;
+                    v.slope_cov = sum.slope_cov * inv;
+                    v.abar = sum.abar * inv;
+                    v.a_s = sum.a_s * inv;
+                    float e = hsum * inv;
+                    v.hbar = std::abs(e) >= floor_distance ? e : (e < 0 ? -floor_distance : floor_distance);
+                  } else {
+                    // Nothing in the 27 footprints around: at least 1.5 voxels away.
+                    glm::ivec3 fine = p * int(N / level.cells);
+                    source.evaluate(fine, fine, one);
+                    float far = float(1.5 * level.voxel) - h;
+                    v.hbar = one[0].distance < 0 ? -far : far;
+                    v.abar = colour_mean;
+                  }
+                }
+                octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
+              }
+        }
+        size_t n = ++done;
+        if (n % 256 == 0) progress("bricks", 0.55 + 0.45 * double(n) / double(jobs.size()));
+      }
+    });
+  }
+};
+
+}  // namespace
+
 octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, VoxelizeReport* report) {
   const uint32_t B = options.brick_size;
   const uint32_t N = options.resolution;
@@ -95,313 +429,22 @@ octree::Octree voxelize(SurfaceSource& source, const VoxelizeOptions& options, V
     throw std::invalid_argument("brick size " + std::to_string(B) + " is not a power of two in [2, 32]");
   }
   if (!power_of_two(N) || N < 16 || N < B || N > 65536) {
-    throw std::invalid_argument("resolution " + std::to_string(N) + " is not a power of two in [16, 65536] (and >= brick size)");
+    throw std::invalid_argument("resolution " + std::to_string(N) +
+                                " is not a power of two in [16, 65536] (and >= brick size)");
   }
-  Clock clock;
-  auto progress = [&](const std::string& stage, double f) {
-    if (options.progress) options.progress(stage, f);
-  };
   VoxelizeReport local_report;
-  VoxelizeReport& rep = report ? *report : local_report;
-
-  const Lattice lattice = make_lattice(source.bounds(), N);
-  progress("distance field", 0.0);
-  source.prepare(lattice);
-  rep.seconds_source = clock.seconds();
-
-  uint32_t depth_count = 1;
-  while ((B << (depth_count - 1)) < N) ++depth_count;
-  const uint32_t D = depth_count - 1;
-  const float h = float(lattice.voxel);
-
-  // --- Finest samples: lattice points within half a voxel of the surface.
-  progress("surface samples", 0.15);
-  std::vector<glm::ivec3> candidates = source.candidate_bricks(B);
-  struct Found {
-    Key key;
-    SurfaceSample sample;
-  };
-  tbb::enumerable_thread_specific<std::vector<Found>> found_local;
-  tbb::enumerable_thread_specific<std::vector<FinePoint>> scratch;
-  tbb::enumerable_thread_specific<std::vector<int32_t>> filled_scratch;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-    auto& found = found_local.local();
-    auto& points = scratch.local();
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      glm::ivec3 lo = candidates[c] * int(B), hi = lo + glm::ivec3(int(B) - 1);
-      source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2; a margin for rounding
-      size_t i = 0;
-      for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x, ++i) {
-            const FinePoint& p = points[i];
-            if (p.near && std::abs(p.distance) <= 0.5f * h) {
-              found.push_back({pack({x, y, z}), {p.closest, p.normal, p.colour}});
-            }
-          }
-    }
-  });
-  std::vector<Found> found;
-  for (auto& f : found_local) found.insert(found.end(), f.begin(), f.end());
-  tbb::parallel_sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.key < b.key; });
-  if (found.empty()) {
-    throw std::runtime_error("the surface leaves no sample at resolution " + std::to_string(N));
-  }
-  std::vector<SurfaceSample> samples(found.size());
-  std::vector<Level> levels(depth_count);
-  for (uint32_t d = 0; d < depth_count; ++d) {
-    levels[d].cells = B << d;
-    levels[d].voxel = lattice.voxel * double(N / levels[d].cells);
-  }
-  for (size_t i = 0; i < found.size(); ++i) {
-    samples[i] = found[i].sample;
-    add_bricks_holding(unpack(found[i].key), int(B), int(N / B), levels[D].bricks);
-  }
-  rep.samples = samples.size();
-  found = {};
-  rep.seconds_samples = clock.seconds() - rep.seconds_source;
-
-  // --- Coarser levels: statistics over box footprints centred on lattice points.
-  for (int d = int(D) - 1; d >= 0; --d) {
-    progress("statistics depth " + std::to_string(d), 0.3 + 0.2 * double(D - d) / D);
-    Level& level = levels[size_t(d)];
-    std::vector<std::pair<Key, uint32_t>> keyed(samples.size());
-    tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
-      glm::dvec3 q = (glm::dvec3(samples[i].position) - lattice.origin) / level.voxel;
-      glm::ivec3 k = glm::clamp(glm::ivec3(glm::round(q)), glm::ivec3(0), glm::ivec3(int(level.cells)));
-      keyed[i] = {pack(k), uint32_t(i)};
-    });
-    tbb::parallel_sort(keyed.begin(), keyed.end());
-    std::vector<size_t> starts;
-    for (size_t i = 0; i < keyed.size(); ++i) {
-      if (i == 0 || keyed[i].first != keyed[i - 1].first) starts.push_back(i);
-    }
-    starts.push_back(keyed.size());
-    std::vector<uint32_t> order(keyed.size());
-    for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
-    level.stats.resize(starts.size() - 1);
-    tbb::parallel_for(size_t(0), starts.size() - 1, [&](size_t g) {
-      glm::ivec3 k = unpack(keyed[starts[g]].first);
-      glm::vec3 centre(lattice.origin + glm::dvec3(k) * level.voxel);
-      level.stats[g] = surface_statistics(samples, std::span(order).subspan(starts[g], starts[g + 1] - starts[g]), centre);
-    });
-    level.filled.reserve(starts.size());
-    for (size_t g = 0; g + 1 < starts.size(); ++g) {
-      Key key = keyed[starts[g]].first;
-      level.filled.emplace(key, uint32_t(g));
-      add_bricks_holding(unpack(key), int(B), int(level.cells / B), level.bricks);
-    }
-    rep.filled_voxels += level.stats.size();
-  }
-  rep.filled_voxels += rep.samples;
-  // Every brick's parent exists.
-  for (uint32_t d = D; d >= 1; --d) {
-    for (Key k : levels[d].bricks) levels[d - 1].bricks.insert(pack(unpack(k) / 2));
-  }
-
-  rep.seconds_statistics = clock.seconds() - rep.seconds_source - rep.seconds_samples;
-
-  // --- Topology: nodes depth by depth, children in tiles of 8.
-  progress("topology", 0.5);
-  octree::Octree tree;
-  tree.brick_size = B;
-  tree.depth_count = depth_count;
-  tree.origin = glm::vec3(lattice.origin);
-  tree.size = float(lattice.voxel * N);
-  tree.sigma_rho2 = source.sigma_rho2();
-  struct BrickJob {
-    uint32_t depth;
-    glm::ivec3 coords;
-  };
-  std::vector<BrickJob> jobs;
-  std::vector<glm::ivec3> coords{glm::ivec3(0)};
-  tree.nodes.push_back({});
-  tree.depth_first_node = {0, 1};
-  for (uint32_t d = 0; d < depth_count; ++d) {
-    uint32_t first = tree.depth_first_node[d], last = tree.depth_first_node[d + 1];
-    for (uint32_t n = first; n < last; ++n) {
-      if (levels[d].bricks.count(pack(coords[n]))) {
-        tree.nodes[n].brick = uint32_t(jobs.size());
-        jobs.push_back({d, coords[n]});
-      }
-      if (d + 1 == depth_count || tree.nodes[n].brick == octree::kNone) continue;
-      bool any = false;
-      for (int i = 0; i < 8; ++i) {
-        any = any || levels[d + 1].bricks.count(pack(coords[n] * 2 + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
-      }
-      if (!any) continue;
-      tree.nodes[n].children = uint32_t(tree.nodes.size());
-      for (int i = 0; i < 8; ++i) {
-        tree.nodes.push_back({});
-        coords.push_back(coords[n] * 2 + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-      }
-    }
-    if (d + 1 < depth_count) tree.depth_first_node.push_back(uint32_t(tree.nodes.size()));
-  }
-  tree.brick_count = jobs.size();
-
-  // --- Channels: only what this surface needs.
-  glm::dvec3 colour_sum(0);
-  for (const auto& s : samples) colour_sum += glm::dvec3(s.colour);
-  glm::vec3 colour_mean(colour_sum / double(samples.size()));
-  bool colour_varies = false;
-  for (const auto& s : samples) colour_varies = colour_varies || glm::length(s.colour - colour_mean) > 0.5f / 255.0f;
-  // A channel is stored when it makes a visible difference somewhere: a
-  // colour-height correlation of at least 4/255 in 1% of the filled voxels,
-  // slopes anisotropic by a factor 2 (variances by 4) in 20% of the sloped ones.
-  bool rough = false, bumpy = false;
-  size_t filled = 0, correlated = 0, sloped = 0, anisotropic = 0;
-  for (uint32_t d = 0; d < D; ++d) {
-    for (const auto& v : levels[d].stats) {
-      ++filled;
-      if (std::max({std::abs(v.a_s.x), std::abs(v.a_s.y), std::abs(v.a_s.z)}) >= 4.0f / 255.0f) ++correlated;
-      bumpy = bumpy || v.sigma_h > 1e-4f * float(levels[d].voxel);
-      float trace = v.slope_cov.x + v.slope_cov.y;
-      rough = rough || trace > 1e-6f;
-      if (trace > 1e-3f) {
-        ++sloped;
-        float diff = v.slope_cov.x - v.slope_cov.y;
-        float root = std::sqrt(diff * diff + 4 * v.slope_cov.z * v.slope_cov.z);
-        float major = 0.5f * (trace + root), minor = 0.5f * (trace - root);
-        if (major > 4.0f * std::max(minor, 0.0f)) ++anisotropic;
-      }
-    }
-  }
-  using octree::Channel;
-  using octree::Encoding;
-  tree.channels.push_back({Channel::Distance, Encoding::F32});
-  tree.channels.push_back({Channel::Normal, Encoding::Oct24});
-  if (bumpy) tree.channels.push_back({Channel::HeightDev, Encoding::U8LogRelative});
-  if (rough) {
-    if (sloped > 0 && anisotropic * 5 > sloped) {
-      tree.channels.push_back({Channel::SlopeCov, Encoding::Cov3x8});
-    } else {
-      tree.channels.push_back({Channel::SlopeDev, Encoding::U8LogSlope});
-    }
-  }
-  if (colour_varies) tree.channels.push_back({Channel::Colour, Encoding::Srgb8});
-  if (colour_varies && correlated * 100 >= filled) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
-  tree.constant_colour = colour_mean;
-  for (const auto& c : tree.channels) {
-    tree.brick_data.emplace_back(size_t(tree.brick_count) * tree.samples_per_brick() * octree::encoding_bytes(c.encoding));
-  }
-
-  // --- Bricks: every lattice point of every stored brick.
-  progress("bricks", 0.55);
-  const int S = int(B) + 1;
-  std::atomic<size_t> done{0};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, jobs.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
-    auto& points = scratch.local();
-    std::vector<FinePoint> one;
-    for (size_t j = r.begin(); j != r.end(); ++j) {
-      const BrickJob& job = jobs[j];
-      const Level& level = levels[job.depth];
-      const glm::ivec3 base = job.coords * int(B);
-      if (job.depth == D) {
-        // Finest: exact values in the band. Points beyond it take the
-        // attributes of band neighbours inside the brick: a cone element that
-        // far from the surface covers nothing, so they never reach a pixel.
-        source.evaluate(base, base + int(B), points);
-        auto at = [&](int x, int y, int z) -> const FinePoint& { return points[size_t((z * S + y) * S + x)]; };
-        for (int z = 0; z < S; ++z)
-          for (int y = 0; y < S; ++y)
-            for (int x = 0; x < S; ++x) {
-              const FinePoint& p = at(x, y, z);
-              octree::Voxel v;
-              v.hbar = p.distance;
-              v.abar = colour_mean;
-              if (p.near) {
-                v.nbar = p.normal;
-                v.abar = p.colour;
-              } else {
-                glm::vec3 n(0), a(0);
-                int count = 0;
-                for (int k = 0; k < 27; ++k) {
-                  int qx = x + k % 3 - 1, qy = y + (k / 3) % 3 - 1, qz = z + k / 9 - 1;
-                  if (qx < 0 || qy < 0 || qz < 0 || qx >= S || qy >= S || qz >= S) continue;
-                  const FinePoint& q = at(qx, qy, qz);
-                  if (q.near) n += q.normal, a += q.colour, ++count;
-                }
-                if (count) v.nbar = glm::normalize(n + glm::vec3(0, 0, 1e-12f)), v.abar = a / float(count);
-              }
-              octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
-            }
-      } else {
-        const float floor_distance = float(0.5 * level.voxel) - h;
-        // Filled-statistics index of every lattice point of the brick and a
-        // one-point apron around it: one hash lookup each, then array reads.
-        const int A = S + 2;
-        auto& filled = filled_scratch.local();
-        filled.assign(size_t(A * A * A), -1);
-        for (int z = 0; z < A; ++z)
-          for (int y = 0; y < A; ++y)
-            for (int x = 0; x < A; ++x) {
-              glm::ivec3 q = base + glm::ivec3(x - 1, y - 1, z - 1);
-              if (glm::any(glm::lessThan(q, glm::ivec3(0))) || glm::any(glm::greaterThan(q, glm::ivec3(int(level.cells))))) {
-                continue;
-              }
-              auto it = level.filled.find(pack(q));
-              if (it != level.filled.end()) filled[size_t((z * A + y) * A + x)] = int32_t(it->second);
-            }
-        auto filled_at = [&](int x, int y, int z) { return filled[size_t(((z + 1) * A + y + 1) * A + x + 1)]; };
-        for (int z = 0; z < S; ++z)
-          for (int y = 0; y < S; ++y)
-            for (int x = 0; x < S; ++x) {
-              glm::ivec3 p = base + glm::ivec3(x, y, z);
-              octree::Voxel v;
-              int32_t self = filled_at(x, y, z);
-              if (self >= 0) {
-                v = level.stats[size_t(self)];
-              } else {
-                // No surface in the footprint: attributes from filled neighbours,
-                // the distance from their planes, never below the footprint's half size.
-                octree::Voxel sum;
-                sum.nbar = glm::vec3(0);
-                sum.abar = glm::vec3(0);
-                float hsum = 0;
-                int count = 0;
-                for (int k = 0; k < 27; ++k) {
-                  glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
-                  int32_t nb = k == 13 ? -1 : filled_at(x + o.x, y + o.y, z + o.z);
-                  if (nb < 0) continue;
-                  const octree::Voxel& u = level.stats[size_t(nb)];
-                  hsum += u.hbar - float(double(glm::dot(u.nbar, glm::vec3(o))) * level.voxel);
-                  sum.nbar += u.nbar;
-                  sum.sigma_h += u.sigma_h;
-                  sum.slope_cov += u.slope_cov;
-                  sum.abar += u.abar;
-                  sum.a_s += u.a_s;
-                  ++count;
-                }
-                if (count) {
-                  float inv = 1.0f / float(count);
-                  v.nbar = glm::normalize(sum.nbar + glm::vec3(0, 0, 1e-12f));
-                  v.sigma_h = sum.sigma_h * inv;
-                  v.slope_cov = sum.slope_cov * inv;
-                  v.abar = sum.abar * inv;
-                  v.a_s = sum.a_s * inv;
-                  float e = hsum * inv;
-                  v.hbar = std::abs(e) >= floor_distance ? e : (e < 0 ? -floor_distance : floor_distance);
-                } else {
-                  // Nothing in the 27 footprints around: at least 1.5 voxels away.
-                  glm::ivec3 fine = p * int(N / level.cells);
-                  source.evaluate(fine, fine, one);
-                  float far = float(1.5 * level.voxel) - h;
-                  v.hbar = one[0].distance < 0 ? -far : far;
-                  v.abar = colour_mean;
-                }
-              }
-              octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
-            }
-      }
-      size_t n = ++done;
-      if (n % 256 == 0) progress("bricks", 0.55 + 0.45 * double(n) / double(jobs.size()));
-    }
-  });
-  progress("done", 1.0);
-  rep.seconds_total = clock.seconds();
+  Builder build(source, options, report ? *report : local_report);
+  build.prepare();
+  build.collect_samples();
+  build.coarse_statistics();
+  build.build_topology();
+  build.choose_channels();
+  build.fill_bricks();
+  build.progress("done", 1.0);
+  VoxelizeReport& rep = build.rep;
+  rep.seconds_total = build.clock.seconds();
   rep.seconds_bricks = rep.seconds_total - rep.seconds_source - rep.seconds_samples - rep.seconds_statistics;
-  return tree;
+  return std::move(build.tree);
 }
 
 }  // namespace svo::voxelizer

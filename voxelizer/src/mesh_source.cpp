@@ -1,19 +1,19 @@
 // The only translation unit that includes OpenVDB (slow to compile).
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
-#include <glm/geometric.hpp>
 #include <OpenImageIO/imagebuf.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <array>
 #include <cmath>
-#include <map>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <glm/geometric.hpp>
+#include <map>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 #include "common/shared_math.h"
@@ -130,8 +130,10 @@ float obj_material_slope_variance(const std::string& path) {
       bool in_material = false;
       auto flush = [&] {
         if (!in_material) return;
-        if (pr >= 0) sum += pr * pr / 2, ++count;
-        else if (ns >= 0) sum += 1.0 / (ns + 2.0), ++count;
+        if (pr >= 0)
+          sum += pr * pr / 2, ++count;
+        else if (ns >= 0)
+          sum += 1.0 / (ns + 2.0), ++count;
         pr = ns = -1;
       };
       while (std::getline(mtl, m)) {
@@ -170,9 +172,7 @@ class MeshSource : public SurfaceSource {
     bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
     glm::vec3 constant = options.colour.value_or(glm::vec3(0.8f));
     float material = std::filesystem::path(path).extension() == ".obj" ? obj_material_slope_variance(path) : -1.0f;
-    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho
-                  : material >= 0       ? material
-                                        : 0.01f;
+    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : material >= 0 ? material : 0.01f;
     for (auto v : mesh.vertices()) {
       auto p = mesh.point(v);
       glm::dvec3 q(p[0], p[1], p[2]);
@@ -192,7 +192,8 @@ class MeshSource : public SurfaceSource {
     // Textures named by the OBJ's materials (map_Kd), relative to the mesh.
     std::map<int, int> texture_of_id;
     OpenMesh::MPropHandleT<std::map<int, std::string>> mapping;
-    bool textured = opt.check(OpenMesh::IO::Options::FaceTexCoord) && mesh.get_property_handle(mapping, "TextureMapping");
+    bool textured =
+        opt.check(OpenMesh::IO::Options::FaceTexCoord) && mesh.get_property_handle(mapping, "TextureMapping");
     if (textured) {
       std::filesystem::path dir = std::filesystem::path(path).parent_path();
       for (const auto& [id, name] : mesh.property(mapping)) {
@@ -286,9 +287,8 @@ class MeshSource : public SurfaceSource {
         for (int y = blo.y; y <= bhi.y; ++y)
           for (int x = blo.x; x <= bhi.x; ++x) out.emplace_back(x, y, z);
     }
-    std::sort(out.begin(), out.end(), [](glm::ivec3 a, glm::ivec3 b) {
-      return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
-    });
+    std::sort(out.begin(), out.end(),
+              [](glm::ivec3 a, glm::ivec3 b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); });
     out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;
   }
@@ -311,8 +311,8 @@ class MeshSource : public SurfaceSource {
             glm::dvec3 p = lattice_.position({x, y, z});
             const glm::ivec3& t = triangles_[size_t(tri)];
             glm::dvec3 bary;
-            glm::dvec3 c = closest_on_triangle(p, positions_[size_t(t.x)], positions_[size_t(t.y)],
-                                               positions_[size_t(t.z)], bary);
+            glm::dvec3 c =
+                closest_on_triangle(p, positions_[size_t(t.x)], positions_[size_t(t.y)], positions_[size_t(t.z)], bary);
             double exact = glm::length(p - c);
             point.near = exact < band;
             point.distance = float(d < 0 ? -exact : exact);

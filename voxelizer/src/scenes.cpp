@@ -1,9 +1,8 @@
 #include "svo/voxelizer/scenes.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <random>
 #include <stdexcept>
 
@@ -118,8 +117,8 @@ void AnalyticScene::evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint
 // ---------------------------------------------------------------------------
 // Height field (paper Fig. 9).
 
-HeightfieldScene::HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h,
-                                   unsigned seed, glm::vec3 abar, glm::vec3 a_s)
+HeightfieldScene::HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h, unsigned seed,
+                                   glm::vec3 abar, glm::vec3 a_s)
     : abar_(abar), a_s_(a_s) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);

@@ -1,8 +1,7 @@
 #include "svo/voxelizer/statistics.h"
 
-#include <glm/geometric.hpp>
-
 #include <cmath>
+#include <glm/geometric.hpp>
 
 #include "common/shared_math.h"
 

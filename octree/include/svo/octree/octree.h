@@ -14,10 +14,9 @@
 // uniform regions therefore cost nothing below their parent.
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
 
@@ -27,27 +26,27 @@ constexpr uint32_t kNone = 0xFFFFFFFFu;
 
 // What a channel holds. Values are part of the file format: never renumber.
 enum class Channel : uint32_t {
-  Distance = 1,        // hbar: signed distance to the voxel's mean plane (scene units)
-  Normal = 2,          // nbar: unit mean normal
-  HeightDev = 3,       // sigma_h: standard deviation of micro-heights (scene units)
-  SlopeDev = 4,        // isotropic slope standard deviation sigma_n
-  SlopeCov = 5,        // anisotropic slope covariance (xx, yy, xy) in the frame of nbar
-  Colour = 6,          // abar: mean colour, linear RGB
-  ColourSlope = 7,     // a_s: colour-height correlation, RGB
+  Distance = 1,     // hbar: signed distance to the voxel's mean plane (scene units)
+  Normal = 2,       // nbar: unit mean normal
+  HeightDev = 3,    // sigma_h: standard deviation of micro-heights (scene units)
+  SlopeDev = 4,     // isotropic slope standard deviation sigma_n
+  SlopeCov = 5,     // anisotropic slope covariance (xx, yy, xy) in the frame of nbar
+  Colour = 6,       // abar: mean colour, linear RGB
+  ColourSlope = 7,  // a_s: colour-height correlation, RGB
 };
 
 // How a channel is stored. Values are part of the file format: never renumber.
 enum class Encoding : uint32_t {
-  F32 = 1,         // 1 float
-  Oct24 = 2,       // unit vector, octahedral map, 2 x 12 bits
+  F32 = 1,            // 1 float
+  Oct24 = 2,          // unit vector, octahedral map, 2 x 12 bits
   U8LogRelative = 3,  // value / voxel_size, log2 scale, 16 steps per octave down from 1 (HeightDev)
   U8LogSlope = 4,     // slope deviation, log2 scale, 16 steps per octave down from 16 (SlopeDev)
   Cov3x8 = 5,         // (sx, sy, rho): two U8LogSlope deviations and a correlation in [-1, 1]
-  Srgb8 = 6,       // RGB in [0, 1], sRGB transfer, 3 x 8 bits
-  Signed8 = 7,     // RGB in [-1, 1], 3 x 8 bits
+  Srgb8 = 6,          // RGB in [0, 1], sRGB transfer, 3 x 8 bits
+  Signed8 = 7,        // RGB in [-1, 1], 3 x 8 bits
 };
 
-const char* channel_name(Channel channel);    // "distance", "normal", ...
+const char* channel_name(Channel channel);     // "distance", "normal", ...
 const char* encoding_name(Encoding encoding);  // "f32", "oct24", ...
 // Bytes per sample of an encoding; 0 for an unknown value.
 uint32_t encoding_bytes(Encoding encoding);
@@ -81,12 +80,12 @@ struct Octree {
   glm::vec3 origin{0, 0, 0};
   float size = 1;  // side of the cubic domain, scene units
 
-  float sigma_rho2 = 0;                  // micro-BRDF slope variance (Heitz & Neyret 5.5), scene-wide
+  float sigma_rho2 = 0;                         // micro-BRDF slope variance (Heitz & Neyret 5.5), scene-wide
   glm::vec3 constant_colour{0.8f, 0.8f, 0.8f};  // abar when no Colour channel is stored
 
-  std::vector<ChannelInfo> channels;         // in storage order
-  std::vector<uint32_t> depth_first_node;    // size depth_count + 1; nodes of depth d: [first[d], first[d+1])
-  std::vector<Node> nodes;                   // node 0 is the root (depth 0)
+  std::vector<ChannelInfo> channels;       // in storage order
+  std::vector<uint32_t> depth_first_node;  // size depth_count + 1; nodes of depth d: [first[d], first[d+1])
+  std::vector<Node> nodes;                 // node 0 is the root (depth 0)
   uint64_t brick_count = 0;
   std::vector<std::vector<uint8_t>> brick_data;  // per channel: brick_count * samples_per_brick() * bytes
 

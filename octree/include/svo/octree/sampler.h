@@ -3,7 +3,6 @@
 #pragma once
 
 #include <glm/vec3.hpp>
-
 #include <optional>
 
 #include "svo/octree/octree.h"

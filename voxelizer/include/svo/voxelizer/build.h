@@ -20,8 +20,8 @@ struct VoxelizeOptions {
 };
 
 struct VoxelizeReport {
-  uint64_t samples = 0;       // finest surface samples
-  uint64_t filled_voxels = 0;  // lattice points with surface in their footprint, all levels
+  uint64_t samples = 0;           // finest surface samples
+  uint64_t filled_voxels = 0;     // lattice points with surface in their footprint, all levels
   double seconds_source = 0;      // source.prepare (e.g. OpenVDB mesh to level set)
   double seconds_samples = 0;     // finest surface samples
   double seconds_statistics = 0;  // coarser levels

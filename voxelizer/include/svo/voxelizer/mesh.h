@@ -4,7 +4,6 @@
 #pragma once
 
 #include <glm/vec3.hpp>
-
 #include <memory>
 #include <optional>
 #include <string>

@@ -5,7 +5,6 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,8 +65,8 @@ class HeightfieldScene : public AnalyticScene {
  public:
   // `waves` cosines with wavelengths between min_wavelength and
   // max_wavelength, amplitudes giving height deviation sigma_h.
-  HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h, unsigned seed,
-                   glm::vec3 abar, glm::vec3 a_s);
+  HeightfieldScene(int waves, float min_wavelength, float max_wavelength, float sigma_h, unsigned seed, glm::vec3 abar,
+                   glm::vec3 a_s);
   float height(float x, float y) const;
   glm::vec2 gradient(float x, float y) const;
   float height_variance() const { return height_variance_; }

@@ -4,9 +4,8 @@
 // the procedural scenes both provide it.
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <vector>
 
 namespace svo::voxelizer {
@@ -30,8 +29,8 @@ struct Lattice {
 constexpr float kBandVoxels = 3.0f;
 
 struct FinePoint {
-  float distance = 0;     // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
-  bool near = false;      // |distance| < kBandVoxels voxels: the fields below are set
+  float distance = 0;          // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
+  bool near = false;           // |distance| < kBandVoxels voxels: the fields below are set
   glm::vec3 closest{0, 0, 0};  // closest surface point
   glm::vec3 normal{0, 0, 1};   // unit surface normal at `closest`
   glm::vec3 colour{0, 0, 0};   // linear RGB attribute at `closest`
@@ -61,9 +60,7 @@ class SurfaceSource {
   // `near_within` (scene units, at most the band) narrows which points get
   // the closest point, normal and colour, for callers that need fewer.
   virtual void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const = 0;
-  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const {
-    evaluate(lo, hi, out, 1e30f);
-  }
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out) const { evaluate(lo, hi, out, 1e30f); }
 };
 
 }  // namespace svo::voxelizer

@@ -3,9 +3,8 @@
 // surface samples that fall in it.
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 
 #include "svo/octree/octree.h"
