@@ -19,6 +19,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev          # command line, JSON output
   libxxhash-dev                            # XXH64 checksums of the .svo file
   libopenvdb-dev libboost-iostreams-dev    # mesh -> narrow-band signed distance (voxelizer only)
+  zlib1g-dev                               # needed by FindOpenVDB.cmake
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
   libopenimageio-dev                       # textures
   libtbb-dev                               # parallel loops
