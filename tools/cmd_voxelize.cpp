@@ -1,7 +1,9 @@
 // svo voxelize: a mesh or a built-in scene to a pre-filtered .svo octree.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -98,6 +100,14 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       if (a->colour.size() == 3) mesh_options.colour = glm::vec3(a->colour[0], a->colour[1], a->colour[2]);
       if (a->roughness >= 0) mesh_options.sigma_rho = a->roughness;
       source = voxelizer::load_mesh(a->input, mesh_options);
+    }
+    // Refuse an output that cannot be written before minutes of work, not after.
+    std::filesystem::path out_dir = std::filesystem::absolute(a->output).parent_path();
+    if (!std::filesystem::is_directory(out_dir)) {
+      throw std::runtime_error(a->output + ": directory " + out_dir.string() + " does not exist");
+    }
+    if (access(out_dir.c_str(), W_OK) != 0) {
+      throw std::runtime_error(a->output + ": directory " + out_dir.string() + " is not writable");
     }
     double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
     double estimate = voxelizer::estimate_memory_bytes(*source, a->resolution, a->brick) / (1024.0 * 1024.0);
