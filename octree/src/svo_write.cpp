@@ -150,7 +150,7 @@ void write_svo(const std::string& path, const Octree& tree) {
 
   TempFile file(path);
   Stream out(file, path);
-  // Header placeholder: the real one needs the payload checksum.
+  // Skip the header for now: it carries the payload checksum, so it is written last.
   if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.name(), errno);
 
   for (size_t c = 0; c < tree.channels.size(); ++c) {
