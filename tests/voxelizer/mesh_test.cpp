@@ -11,6 +11,7 @@
 
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
+#include "lattice_points.h"
 
 namespace {
 using namespace svo;
@@ -86,20 +87,16 @@ std::string cube_stl() {
 void expect_cube_distances(const octree::Octree& tree) {
   int checked = 0;
   for (uint32_t d = 0; d < tree.depth_count; ++d) {
-    int cells = int(tree.brick_size << d);
     float s = tree.voxel_size(d);
-    for (int z = 0; z <= cells; ++z)
-      for (int y = 0; y <= cells; ++y)
-        for (int x = 0; x <= cells; ++x) {
-          glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
-          // Near the top face, away from edges: the distance is p.z - 0.5.
-          if (std::abs(p.x) > 0.3f || std::abs(p.y) > 0.3f || std::abs(p.z - 0.5f) > 0.45f * s) continue;
-          auto v = octree::lattice_voxel(tree, d, {x, y, z});
-          ASSERT_TRUE(v.has_value());
-          EXPECT_NEAR(v->hbar, p.z - 0.5f, 1e-3f * s + 1e-5f) << "depth " << d;
-          EXPECT_GT(v->nbar.z, 0.999f) << "depth " << d;
-          ++checked;
-        }
+    for (const auto& [index, p] : test::lattice_points(tree, d)) {
+      // Near the top face, away from edges: the distance is p.z - 0.5.
+      if (std::abs(p.x) > 0.3f || std::abs(p.y) > 0.3f || std::abs(p.z - 0.5f) > 0.45f * s) continue;
+      auto v = octree::lattice_voxel(tree, d, index);
+      ASSERT_TRUE(v.has_value());
+      EXPECT_NEAR(v->hbar, p.z - 0.5f, 1e-3f * s + 1e-5f) << "depth " << d;
+      EXPECT_GT(v->nbar.z, 0.999f) << "depth " << d;
+      ++checked;
+    }
   }
   EXPECT_GT(checked, 20);
 }
@@ -124,26 +121,22 @@ TEST(Mesh, VertexColoursReachTheVoxels) {
   octree::Octree tree = voxelizer::voxelize(*mesh, options);
   ASSERT_GE(tree.channel_index(octree::Channel::Colour), 0);
   const uint32_t D = tree.depth_count - 1;
-  int cells = int(tree.finest_resolution());
   int top = 0, bottom = 0;
-  for (int x = 0; x <= cells; x += 4)
-    for (int y = 0; y <= cells; y += 4)
-      for (int z = 0; z <= cells; ++z) {
-        glm::vec3 p = octree::lattice_position(tree, D, {x, y, z});
-        if (std::abs(p.x) > 0.4f || std::abs(p.y) > 0.4f) continue;
-        auto v = octree::lattice_voxel(tree, D, {x, y, z});
-        if (!v || std::abs(v->hbar) > 0.5f * tree.voxel_size(D)) continue;
-        if (std::abs(p.z - 0.5f) < 0.02f) {
-          EXPECT_NEAR(v->abar.b, 1.0f, 0.01f);
-          EXPECT_NEAR(v->abar.r, 0.0f, 0.01f);
-          ++top;
-        }
-        if (std::abs(p.z + 0.5f) < 0.02f) {
-          EXPECT_NEAR(v->abar.r, 1.0f, 0.01f);
-          EXPECT_NEAR(v->abar.b, 0.0f, 0.01f);
-          ++bottom;
-        }
-      }
+  for (const auto& [index, p] : test::lattice_points(tree, D, glm::ivec3(4, 4, 1))) {
+    if (std::abs(p.x) > 0.4f || std::abs(p.y) > 0.4f) continue;
+    auto v = octree::lattice_voxel(tree, D, index);
+    if (!v || std::abs(v->hbar) > 0.5f * tree.voxel_size(D)) continue;
+    if (std::abs(p.z - 0.5f) < 0.02f) {
+      EXPECT_NEAR(v->abar.b, 1.0f, 0.01f);
+      EXPECT_NEAR(v->abar.r, 0.0f, 0.01f);
+      ++top;
+    }
+    if (std::abs(p.z + 0.5f) < 0.02f) {
+      EXPECT_NEAR(v->abar.r, 1.0f, 0.01f);
+      EXPECT_NEAR(v->abar.b, 0.0f, 0.01f);
+      ++bottom;
+    }
+  }
   EXPECT_GT(top, 10);
   EXPECT_GT(bottom, 10);
 }
@@ -211,21 +204,18 @@ TEST(Mesh, TextureColoursThroughUVs) {
   octree::Octree tree = voxelizer::voxelize(*mesh, options);
   ASSERT_GE(tree.channel_index(octree::Channel::Colour), 0);
   const uint32_t D = tree.depth_count - 1;
-  int cells = int(tree.finest_resolution()), red = 0, green = 0;
-  for (int x = 0; x <= cells; ++x)
-    for (int y = 0; y <= cells; ++y)
-      for (int z = 0; z <= cells; ++z) {
-        glm::vec3 p = octree::lattice_position(tree, D, {x, y, z});
-        if (std::abs(p.z) > 0.4f * tree.voxel_size(D) || std::abs(p.y) > 0.4f || std::abs(p.x) > 0.45f ||
-            std::abs(p.x) < 0.05f) {
-          continue;
-        }
-        auto v = octree::lattice_voxel(tree, D, {x, y, z});
-        ASSERT_TRUE(v.has_value());
-        glm::vec3 expected = p.x < 0 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-        EXPECT_LT(glm::length(v->abar - expected), 0.02f) << p.x << " " << p.y;
-        (p.x < 0 ? red : green)++;
-      }
+  int red = 0, green = 0;
+  for (const auto& [index, p] : test::lattice_points(tree, D)) {
+    if (std::abs(p.z) > 0.4f * tree.voxel_size(D) || std::abs(p.y) > 0.4f || std::abs(p.x) > 0.45f ||
+        std::abs(p.x) < 0.05f) {
+      continue;
+    }
+    auto v = octree::lattice_voxel(tree, D, index);
+    ASSERT_TRUE(v.has_value());
+    glm::vec3 expected = p.x < 0 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    EXPECT_LT(glm::length(v->abar - expected), 0.02f) << p.x << " " << p.y;
+    (p.x < 0 ? red : green)++;
+  }
   EXPECT_GT(red, 100);
   EXPECT_GT(green, 100);
 }

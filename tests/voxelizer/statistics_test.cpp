@@ -12,6 +12,7 @@
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
 #include "svo/voxelizer/scenes.h"
+#include "lattice_points.h"
 
 namespace {
 using namespace svo;
@@ -43,22 +44,18 @@ TEST(Statistics, PlaneHasZeroVariancesAndExactDistanceAtEveryLevel) {
   EXPECT_LT(tree.channel_index(octree::Channel::Colour), 0);
   int checked = 0;
   for (uint32_t d = 0; d < tree.depth_count; ++d) {
-    int cells = int(tree.brick_size << d);
     float s = tree.voxel_size(d);
-    for (int z = 0; z <= cells; ++z)
-      for (int y = 0; y <= cells; ++y)
-        for (int x = 0; x <= cells; ++x) {
-          glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
-          // Away from the clipping faces, and close enough to the plane to be filled.
-          if (glm::length(p) > 0.45f || std::abs(slab.plane(p)) > 0.49f * s) continue;
-          auto v = octree::lattice_voxel(tree, d, {x, y, z});
-          ASSERT_TRUE(v.has_value()) << "depth " << d << " at " << x << "," << y << "," << z;
-          EXPECT_LT(v->sigma_h * v->sigma_h, 1e-6f);
-          EXPECT_LT(v->slope_cov.x + v->slope_cov.y, 1e-6f);
-          EXPECT_NEAR(v->hbar, slab.plane(p), 1e-3f * s) << "depth " << d;
-          EXPECT_GT(glm::dot(v->nbar, slab.n), 0.99999f);
-          ++checked;
-        }
+    for (const auto& [index, p] : test::lattice_points(tree, d)) {
+      // Away from the clipping faces, and close enough to the plane to be filled.
+      if (glm::length(p) > 0.45f || std::abs(slab.plane(p)) > 0.49f * s) continue;
+      auto v = octree::lattice_voxel(tree, d, index);
+      ASSERT_TRUE(v.has_value()) << "depth " << d << " at " << index.x << "," << index.y << "," << index.z;
+      EXPECT_LT(v->sigma_h * v->sigma_h, 1e-6f);
+      EXPECT_LT(v->slope_cov.x + v->slope_cov.y, 1e-6f);
+      EXPECT_NEAR(v->hbar, slab.plane(p), 1e-3f * s) << "depth " << d;
+      EXPECT_GT(glm::dot(v->nbar, slab.n), 0.99999f);
+      ++checked;
+    }
   }
   EXPECT_GT(checked, 1000);
 }
@@ -105,28 +102,24 @@ TEST(Statistics, GaussianHeightFieldGivesBackItsVariancesAndColour) {
   octree::Octree tree = voxelizer::voxelize(field, options);
   ASSERT_GE(tree.channel_index(octree::Channel::ColourSlope), 0) << "colour correlates with height";
   for (uint32_t d = 0; d <= 1; ++d) {
-    int cells = int(tree.brick_size << d);
     float s = tree.voxel_size(d);
     double sh2 = 0, slope2 = 0, true_sh2 = 0, true_slope2 = 0;
     glm::dvec3 mean_abar(0), mean_as(0);
     int count = 0;
-    for (int y = 0; y <= cells; ++y)
-      for (int x = 0; x <= cells; ++x)
-        for (int z = 0; z <= cells; ++z) {
-          glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
-          // Boxes that hold the mean surface z = 0 and lie inside the tile.
-          if (std::max(std::abs(p.x), std::abs(p.y)) > 0.98f - 0.5f * s || std::abs(p.z) > 0.4f * s) continue;
-          auto v = octree::lattice_voxel(tree, d, {x, y, z});
-          ASSERT_TRUE(v.has_value());
-          PatchTruth truth = patch_truth(field, p.x, p.y, s);
-          sh2 += v->sigma_h * v->sigma_h;
-          slope2 += v->slope_cov.x + v->slope_cov.y;
-          true_sh2 += truth.height_variance;
-          true_slope2 += truth.slope_variance;
-          mean_abar += glm::dvec3(v->abar);
-          mean_as += glm::dvec3(v->a_s);
-          ++count;
-        }
+    for (const auto& [index, p] : test::lattice_points(tree, d)) {
+      // Boxes that hold the mean surface z = 0 and lie inside the tile.
+      if (std::max(std::abs(p.x), std::abs(p.y)) > 0.98f - 0.5f * s || std::abs(p.z) > 0.4f * s) continue;
+      auto v = octree::lattice_voxel(tree, d, index);
+      ASSERT_TRUE(v.has_value());
+      PatchTruth truth = patch_truth(field, p.x, p.y, s);
+      sh2 += v->sigma_h * v->sigma_h;
+      slope2 += v->slope_cov.x + v->slope_cov.y;
+      true_sh2 += truth.height_variance;
+      true_slope2 += truth.slope_variance;
+      mean_abar += glm::dvec3(v->abar);
+      mean_as += glm::dvec3(v->a_s);
+      ++count;
+    }
     ASSERT_GE(count, 9) << "depth " << d;
     double generating_slope = field.slope_variance().x + field.slope_variance().y;
     EXPECT_NEAR(sh2 / true_sh2, 1.0, 0.05) << "depth " << d;
@@ -173,31 +166,27 @@ TEST(Statistics, LevelEqualsDirectComputationFromTheFinestSamples) {
   int checked = 0;
   for (uint32_t d = 1; d < D; ++d) {
     const float s = tree.voxel_size(d);
-    const int cells = int(tree.brick_size << d);
-    for (int z = 0; z <= cells; z += 3)
-      for (int y = 0; y <= cells; y += 2)
-        for (int x = 0; x <= cells; ++x) {
-          glm::vec3 c = octree::lattice_position(tree, d, {x, y, z});
-          std::vector<uint32_t> inside;
-          for (uint32_t i = 0; i < samples.size(); ++i) {
-            glm::vec3 q = (samples[i].position - c) / s;
-            if (std::abs(q.x) < 0.5f && std::abs(q.y) < 0.5f && std::abs(q.z) < 0.5f) inside.push_back(i);
-          }
-          if (inside.size() < 8) continue;  // skip boxes whose membership rounding could change
-          auto v = octree::lattice_voxel(tree, d, {x, y, z});
-          ASSERT_TRUE(v.has_value());
-          octree::Voxel e = voxelizer::surface_statistics(samples, inside, c);
-          EXPECT_NEAR(v->hbar, e.hbar, 1e-4f * s);
-          EXPECT_GT(glm::dot(v->nbar, e.nbar), 0.9999f);
-          EXPECT_NEAR(v->sigma_h, e.sigma_h, 0.025f * e.sigma_h + 1e-5f * s);  // 8-bit log: +-2.2%
-          float tv = v->slope_cov.x + v->slope_cov.y, te = e.slope_cov.x + e.slope_cov.y;
-          EXPECT_NEAR(tv, te, 0.05f * te + 1e-6f);
-          for (int k = 0; k < 3; ++k) {
-            EXPECT_NEAR(v->abar[k], e.abar[k], 0.01f);
-            EXPECT_NEAR(v->a_s[k], e.a_s[k], 0.01f);
-          }
-          ++checked;
-        }
+    for (const auto& [index, c] : test::lattice_points(tree, d, glm::ivec3(1, 2, 3))) {
+      std::vector<uint32_t> inside;
+      for (uint32_t i = 0; i < samples.size(); ++i) {
+        glm::vec3 q = (samples[i].position - c) / s;
+        if (std::abs(q.x) < 0.5f && std::abs(q.y) < 0.5f && std::abs(q.z) < 0.5f) inside.push_back(i);
+      }
+      if (inside.size() < 8) continue;  // skip boxes whose membership rounding could change
+      auto v = octree::lattice_voxel(tree, d, index);
+      ASSERT_TRUE(v.has_value());
+      octree::Voxel e = voxelizer::surface_statistics(samples, inside, c);
+      EXPECT_NEAR(v->hbar, e.hbar, 1e-4f * s);
+      EXPECT_GT(glm::dot(v->nbar, e.nbar), 0.9999f);
+      EXPECT_NEAR(v->sigma_h, e.sigma_h, 0.025f * e.sigma_h + 1e-5f * s);  // 8-bit log: +-2.2%
+      float tv = v->slope_cov.x + v->slope_cov.y, te = e.slope_cov.x + e.slope_cov.y;
+      EXPECT_NEAR(tv, te, 0.05f * te + 1e-6f);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(v->abar[k], e.abar[k], 0.01f);
+        EXPECT_NEAR(v->a_s[k], e.a_s[k], 0.01f);
+      }
+      ++checked;
+    }
   }
   EXPECT_GT(checked, 50);
 }
@@ -220,21 +209,18 @@ TEST(Statistics, GroovedCylinderIsAnisotropic) {
   ASSERT_GE(tree.channel_index(octree::Channel::SlopeCov), 0);
   EXPECT_LT(tree.channel_index(octree::Channel::SlopeDev), 0);
   const uint32_t d = 2;
-  int cells = int(tree.brick_size << d), strong = 0, sloped = 0;
-  for (int z = 0; z <= cells; ++z)
-    for (int y = 0; y <= cells; ++y)
-      for (int x = 0; x <= cells; ++x) {
-        glm::vec3 p = octree::lattice_position(tree, d, {x, y, z});
-        float rho = std::sqrt(p.x * p.x + p.z * p.z);
-        if (std::abs(p.y) > 0.3f || std::abs(rho - 0.5f) > 0.3f * tree.voxel_size(d)) continue;
-        auto v = octree::lattice_voxel(tree, d, {x, y, z});
-        ASSERT_TRUE(v.has_value());
-        glm::vec3 c = v->slope_cov;
-        float trace = c.x + c.y, diff = c.x - c.y, root = std::sqrt(diff * diff + 4 * c.z * c.z);
-        if (trace < 1e-3f) continue;
-        ++sloped;
-        if (0.5f * (trace + root) > 10.0f * std::max(0.5f * (trace - root), 1e-9f)) ++strong;
-      }
+  int strong = 0, sloped = 0;
+  for (const auto& [index, p] : test::lattice_points(tree, d)) {
+    float rho = std::sqrt(p.x * p.x + p.z * p.z);
+    if (std::abs(p.y) > 0.3f || std::abs(rho - 0.5f) > 0.3f * tree.voxel_size(d)) continue;
+    auto v = octree::lattice_voxel(tree, d, index);
+    ASSERT_TRUE(v.has_value());
+    glm::vec3 c = v->slope_cov;
+    float trace = c.x + c.y, diff = c.x - c.y, root = std::sqrt(diff * diff + 4 * c.z * c.z);
+    if (trace < 1e-3f) continue;
+    ++sloped;
+    if (0.5f * (trace + root) > 10.0f * std::max(0.5f * (trace - root), 1e-9f)) ++strong;
+  }
   EXPECT_GT(sloped, 20);
   EXPECT_GT(strong, sloped * 8 / 10) << strong << " of " << sloped;
 }
