@@ -16,4 +16,5 @@ using namespace glm;
 #include "voxel_codec.glsl"
 #include "smith.glsl"
 #include "trig.glsl"
+#include "tracer_params.glsl"
 }  // namespace svo::math

@@ -1,0 +1,117 @@
+// The cone tracer (Heitz & Neyret Algorithm 1, DESIGN section 8): one cone
+// per pixel through the bricked octree, A-buffer masks for sub-pixel
+// occlusion, shading by Eq. 13 with the Eq. 17 attribute. The same tracer
+// source (shaders/common/tracer.glsl) runs on the GPU (GpuRenderer, Vulkan
+// compute) and on the CPU (render_cpu, for tests).
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "svo/octree/octree.h"
+#include "svo/render/vk_context.h"
+
+namespace svo::render {
+
+// Values are shared with the shaders: never renumber.
+enum class Mode : uint32_t {
+  Prefiltered = 0,  // ours: quadrilinear statistics, masks, Eq. 17, roughness from slope variance
+  Nearest = 1,      // binary voxels at the nearest level, no interpolation
+  Alpha = 2,        // coverage as opacity, front-to-back blending (thickens silhouettes)
+  Mip = 3,          // our geometry, plain averaged colour and normal
+};
+const char* mode_name(Mode mode);                   // "prefiltered", ...
+std::optional<Mode> parse_mode(std::string_view name);  // nullopt for an unknown name
+
+// A pinhole camera, or a thin lens when aperture > 0.
+struct Camera {
+  glm::vec3 eye{0, 0, 3};
+  glm::vec3 target{0, 0, 0};
+  glm::vec3 up{0, 1, 0};
+  float fov_deg = 40;    // vertical field of view
+  float aperture = 0;    // lens radius, scene units (0: pinhole)
+  float focus = 0;       // focus distance along the view axis, scene units (used when aperture > 0)
+};
+
+constexpr int kMaxLights = 4;
+
+struct Light {
+  bool point = false;
+  // Directional: the direction towards the light (normalised by the renderer).
+  // Point: the light's position.
+  glm::vec3 vector{0.4f, 0.8f, 0.6f};
+  // Directional: irradiance at normal incidence. Point: intensity (irradiance = radiance / distance^2).
+  glm::vec3 radiance{3, 3, 3};
+  // Size of the light for soft shadows. Directional: angular radius (radians). Point: radius (scene units).
+  float size = 0.02f;
+};
+
+struct RenderSettings {
+  uint32_t width = 512;
+  uint32_t height = 512;
+  Camera camera;
+  Mode mode = Mode::Prefiltered;
+  bool shadows = false;
+  std::vector<Light> lights{Light{}};  // at most kMaxLights
+  glm::vec3 ambient{0.08f, 0.08f, 0.1f};  // unshadowed ambient irradiance / pi, times abar
+  glm::vec3 background{0.02f, 0.02f, 0.03f};  // radiance of the bits no element set
+  float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
+  bool gbuffer = false;  // fill Frame::gbuffer
+  uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
+};
+
+// One G-buffer texel: coverage-weighted averages over the elements that set
+// bits of the pixel's mask (coverage 0: no surface, the other fields 0).
+struct GBufferTexel {
+  float depth = 0;  // distance along the view ray, scene units
+  glm::vec3 position{0};
+  glm::vec3 normal{0};  // filtered mean normal (not renormalised)
+  float slope_variance = 0;  // total: sigma_n^2 (isotropic mean) + sigma_rho^2
+  glm::vec3 abar{0};
+  float coverage = 0;  // covered fraction of the pixel's footprint
+};
+
+struct Frame {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::vec4> colour;  // row-major, top row first; linear RGB radiance, alpha = coverage
+  std::vector<GBufferTexel> gbuffer;  // empty unless requested
+  std::vector<uint32_t> steps;  // cone elements visited per pixel (shadow cones included)
+  double gpu_ms = -1;   // GPU time of the trace from timestamp queries; -1 when unknown (CPU)
+  double wall_ms = 0;   // host time of render(), uploads of settings and read-back included
+  uint64_t covered_pixels = 0;  // pixels with coverage > 0
+  double steps_per_pixel = 0;   // mean over all pixels
+};
+
+// The Vulkan tracer. Uploads the octree once (node pool and per-channel brick
+// pools, split across several storage buffers within the device's
+// maxStorageBufferRange); render() may be called many times.
+class GpuRenderer {
+ public:
+  // Throws vk::Error naming the limit when the octree cannot fit on the device.
+  GpuRenderer(vk::Context& context, const octree::Octree& tree);
+  ~GpuRenderer();
+  GpuRenderer(const GpuRenderer&) = delete;
+  GpuRenderer& operator=(const GpuRenderer&) = delete;
+
+  // Throws std::invalid_argument for bad settings (size 0 or above the
+  // device's limits, too many lights), vk::Error for Vulkan failures.
+  Frame render(const RenderSettings& settings);
+
+  std::size_t pool_bytes() const;  // device memory held by the octree pools
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same tracer on the CPU (multithreaded, slow): the reference for the GPU path in tests.
+Frame render_cpu(const octree::Octree& tree, const RenderSettings& settings);
+
+}  // namespace svo::render

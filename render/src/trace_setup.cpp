@@ -1,0 +1,165 @@
+#include "trace_setup.h"
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace svo::render {
+
+namespace {
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+const char* mode_name(Mode mode) {
+  switch (mode) {
+    case Mode::Prefiltered:
+      return "prefiltered";
+    case Mode::Nearest:
+      return "nearest";
+    case Mode::Alpha:
+      return "alpha";
+    case Mode::Mip:
+      return "mip";
+  }
+  return "unknown";
+}
+
+std::optional<Mode> parse_mode(std::string_view name) {
+  for (Mode m : {Mode::Prefiltered, Mode::Nearest, Mode::Alpha, Mode::Mip}) {
+    if (name == mode_name(m)) return m;
+  }
+  return std::nullopt;
+}
+
+PackedOctree pack_octree(const octree::Octree& tree) {
+  using octree::Channel;
+  using octree::Encoding;
+  PackedOctree p;
+  if (tree.channel_index(Channel::Distance) < 0) throw std::invalid_argument("the octree has no distance channel");
+  p.nodes.resize(tree.nodes.size());
+  for (size_t i = 0; i < tree.nodes.size(); ++i) p.nodes[i] = {tree.nodes[i].children, tree.nodes[i].brick};
+  const uint32_t samples = tree.samples_per_brick();
+  std::vector<uint32_t> offset(tree.channels.size());
+  uint32_t bytes = 0;
+  p.offsets_a = p.offsets_b = glm::uvec4(svo::math::SVO_ABSENT);
+  for (size_t c = 0; c < tree.channels.size(); ++c) {
+    offset[c] = bytes;
+    const auto& info = tree.channels[c];
+    switch (info.channel) {
+      case Channel::Distance:
+        p.offsets_a.x = bytes;
+        break;
+      case Channel::Normal:
+        p.offsets_a.y = bytes;
+        break;
+      case Channel::HeightDev:
+        p.offsets_a.z = bytes;
+        p.encodings.x = uint32_t(info.encoding);
+        break;
+      case Channel::SlopeDev:
+        p.offsets_a.w = bytes;
+        p.encodings.y = uint32_t(info.encoding);
+        break;
+      case Channel::SlopeCov:
+        p.offsets_b.x = bytes;
+        break;
+      case Channel::Colour:
+        p.offsets_b.y = bytes;
+        break;
+      case Channel::ColourSlope:
+        p.offsets_b.z = bytes;
+        break;
+    }
+    bytes += samples * octree::encoding_bytes(info.encoding);
+  }
+  p.brick_bytes = (bytes + 3u) & ~3u;
+  p.brick_count = tree.brick_count;
+  p.bricks.assign(size_t(p.brick_count) * p.brick_bytes + 4, 0);
+  for (size_t c = 0; c < tree.channels.size(); ++c) {
+    const size_t channel_bytes = size_t(samples) * octree::encoding_bytes(tree.channels[c].encoding);
+    for (uint64_t b = 0; b < p.brick_count; ++b) {
+      std::memcpy(p.bricks.data() + b * p.brick_bytes + offset[c], tree.brick_data[c].data() + b * channel_bytes,
+                  channel_bytes);
+    }
+  }
+  return p;
+}
+
+TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& packed, const RenderSettings& s) {
+  if (s.width == 0 || s.height == 0) throw std::invalid_argument("image size must be at least 1x1");
+  if (s.lights.size() > size_t(kMaxLights)) {
+    throw std::invalid_argument("at most " + std::to_string(kMaxLights) + " lights, got " +
+                                std::to_string(s.lights.size()));
+  }
+  const Camera& c = s.camera;
+  if (!finite(c.eye) || !finite(c.target) || !finite(c.up)) throw std::invalid_argument("camera is not finite");
+  glm::vec3 w = c.target - c.eye;
+  if (!(glm::length(w) > 0)) throw std::invalid_argument("camera eye and target coincide");
+  w = glm::normalize(w);
+  glm::vec3 u = glm::cross(w, c.up);
+  if (!(glm::length(u) > 1e-6f * glm::length(c.up))) throw std::invalid_argument("camera up is parallel to the view");
+  u = glm::normalize(u);
+  glm::vec3 v = glm::cross(u, w);
+  if (!(c.fov_deg > 0 && c.fov_deg < 180)) throw std::invalid_argument("field of view must be in (0, 180) degrees");
+  if (!(c.aperture >= 0) || (c.aperture > 0 && !(c.focus > 0))) {
+    throw std::invalid_argument("depth of field needs an aperture >= 0 and a focus distance > 0");
+  }
+  const float tan_half = std::tan(glm::radians(c.fov_deg) * 0.5f);
+  const float aspect = float(s.width) / float(s.height);
+  TraceParams p{};
+  // A disk of the pixel's area: radius = pixel side / sqrt(pi).
+  const float pixel = 2.0f * tan_half / float(s.height);
+  p.eye = glm::vec4(c.eye, pixel / std::sqrt(svo::math::SVO_PI));
+  p.cam_u = glm::vec4(u * tan_half * aspect, 0);
+  p.cam_v = glm::vec4(v * tan_half, 0);
+  p.cam_w = glm::vec4(w, c.aperture);
+  p.lens = glm::vec4(c.focus, 0, 0, 0);
+  p.domain = glm::vec4(tree.origin, tree.size);
+  p.material = glm::vec4(tree.sigma_rho2, s.specular, tree.voxel_size(tree.depth_count - 1), 0);
+  p.constant_colour = glm::vec4(tree.constant_colour, 0);
+  p.ambient = glm::vec4(s.ambient, 0);
+  p.background = glm::vec4(s.background, 0);
+  p.image = glm::uvec4(s.width, s.height, uint32_t(s.mode),
+                       (s.shadows ? svo::math::SVO_FLAG_SHADOWS : 0u) | (s.gbuffer ? svo::math::SVO_FLAG_GBUFFER : 0u));
+  p.tree = glm::uvec4(tree.brick_size, tree.depth_count, s.max_steps, uint32_t(s.lights.size()));
+  p.pool = glm::uvec4(packed.brick_bytes, 0, 0, 0);
+  p.offsets_a = packed.offsets_a;
+  p.offsets_b = packed.offsets_b;
+  p.encodings = packed.encodings;
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    const Light& l = s.lights[i];
+    if (!finite(l.vector) || !finite(l.radiance) || !std::isfinite(l.size) || l.size < 0) {
+      throw std::invalid_argument("light " + std::to_string(i + 1) + " is not finite or has a negative size");
+    }
+    glm::vec3 vec = l.vector;
+    if (!l.point) {
+      if (!(glm::length(vec) > 0)) throw std::invalid_argument("light " + std::to_string(i + 1) + " has no direction");
+      vec = glm::normalize(vec);
+    }
+    p.light_vector[i] = glm::vec4(vec, l.point ? 1.0f : 0.0f);
+    p.light_radiance[i] = glm::vec4(l.radiance, l.size);
+  }
+  return p;
+}
+
+const MaskTable& tracer_mask_table() {
+  static const MaskTable table = build_mask_table(poisson_disk(kMaskBits), int(svo::math::SVO_MASK_BINS),
+                                                  int(svo::math::SVO_MASK_BINS));
+  return table;
+}
+
+void finish_frame_stats(Frame& frame) {
+  frame.covered_pixels = 0;
+  uint64_t steps = 0;
+  for (const auto& c : frame.colour) frame.covered_pixels += c.a > 0 ? 1 : 0;
+  for (uint32_t s : frame.steps) steps += s;
+  frame.steps_per_pixel = frame.steps.empty() ? 0.0 : double(steps) / double(frame.steps.size());
+}
+
+}  // namespace svo::render

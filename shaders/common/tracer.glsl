@@ -1,0 +1,482 @@
+// The cone tracer, Heitz & Neyret Algorithm 1 (DESIGN section 8), in the
+// shared dialect: the compute shader (shaders/render/trace.comp) and the CPU
+// renderer (render/src/cpu_renderer.cpp) include this same file.
+//
+// Before including it, the host declares:
+//   SvoTraceParams params;                      the settings of this trace (tracer_params.glsl)
+//   uvec2 svo_node(uint index);                 (children, brick) of a node, SVO_ABSENT for none
+//   uint svo_brick_bytes(uint brick, uint offset);  4 bytes at `offset` in a brick, little-endian
+//   uvec4 svo_mask(uint cell);                  the mask table, theta-major, SVO_MASK_BINS^2 cells
+// A brick holds every channel of its (B+1)^3 lattice samples, channel after
+// channel (offsets in params), samples x-fastest.
+//
+// Per pixel: one cone through the pixel centre with the pixel's footprint
+// (a disk of the pixel's area) or the thin lens's. Cone elements are as long
+// as they are wide; each samples the octree at the level whose voxel matches
+// its diameter, interpolating in space and between two levels, and turns the
+// voxel's mean plane into a 128-bit sub-pixel mask (cone_mask.glsl); masks
+// combine A-buffer style and the background fills the bits never set.
+#ifndef SVO_TRACER_GLSL
+#define SVO_TRACER_GLSL
+#include "beckmann.glsl"
+#include "cone_mask.glsl"
+#include "frame.glsl"
+#include "smith.glsl"
+#include "tracer_params.glsl"
+#include "trig.glsl"
+#include "voxel_codec.glsl"
+
+// A voxel as the renderer uses it (height deviation is not needed for shading).
+struct SvoVoxel {
+  float hbar;  // signed distance to the mean plane, scene units (> 0 outside)
+  vec3 n;      // mean normal (interpolated, not renormalised)
+  vec3 cov;    // slope covariance (xx, yy, xy) in the tangent frame of n
+  vec3 abar;   // mean colour, linear
+  vec3 a_s;    // colour-height correlation
+};
+
+// A cell of the octree at some depth: the brick that covers it, or an empty
+// region (brick SVO_ABSENT) known to hold no surface at that depth.
+struct SvoCell {
+  uint brick;
+  uint depth;  // the depth asked for (SVO_ABSENT: no cell yet)
+  vec3 lo;     // lower corner of the node's box (of the empty region for an empty cell)
+  float size;
+};
+
+// A cone: radius(t) = max(r0 + k t, aperture |t - focus| / focus).
+struct SvoCone {
+  vec3 o;
+  vec3 d;      // unit axis
+  vec3 inv_d;  // 1 / d, finite
+  float r0;
+  float k;
+  float aperture;
+  float focus;
+  SvoFrame frame;  // footprint axes (the mask table's x and y)
+};
+
+// The state of a march along a cone, advanced element by element.
+struct SvoMarch {
+  SvoCell lo_cell;  // cached lookups of the coarser and the finer level
+  SvoCell hi_cell;
+  float t;          // where the next element starts
+  bool hit;         // the last element sampled a brick (v, p, mask valid)
+  SvoVoxel v;
+  vec3 p;           // centre of the last element
+  float depth;      // its distance along the cone
+  float radius;
+  uvec4 mask;       // its sub-pixel coverage
+};
+
+SVO_FN float svo_voxel_size(uint depth) {
+  return params.domain.w / float(params.tree.x << depth);
+}
+
+SVO_FN uint svo_byte(uint brick, uint offset) {
+  return svo_brick_bytes(brick, offset) & 255u;
+}
+
+SVO_FN SvoVoxel svo_fetch(uint brick, uint s) {
+  SvoVoxel v;
+  v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
+  v.n = vec3(0.0f, 0.0f, 1.0f);
+  if (params.offsets_a.y != SVO_ABSENT) {
+    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 3u) & 0xFFFFFFu);
+  }
+  v.cov = vec3(0.0f);
+  if (params.offsets_b.x != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 3u);
+    float sx = svo_decode_u8_log_slope(b & 255u);
+    float sy = svo_decode_u8_log_slope((b >> 8u) & 255u);
+    float rho = svo_decode_s8((b >> 16u) & 255u);
+    v.cov = vec3(sx * sx, sy * sy, rho * sx * sy);
+  } else if (params.offsets_a.w != SVO_ABSENT) {
+    float sd = params.encodings.y == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
+                   : svo_decode_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
+    v.cov = vec3(sd * sd, sd * sd, 0.0f);
+  }
+  v.abar = vec3(params.constant_colour);
+  if (params.offsets_b.y != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 3u);
+    v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
+  }
+  v.a_s = vec3(0.0f);
+  if (params.offsets_b.z != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 3u);
+    v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
+  }
+  return v;
+}
+
+// a + w b, field by field.
+SVO_FN SvoVoxel svo_voxel_madd(SvoVoxel a, SvoVoxel b, float w) {
+  SvoVoxel r;
+  r.hbar = a.hbar + w * b.hbar;
+  r.n = a.n + w * b.n;
+  r.cov = a.cov + w * b.cov;
+  r.abar = a.abar + w * b.abar;
+  r.a_s = a.a_s + w * b.a_s;
+  return r;
+}
+
+SVO_FN SvoVoxel svo_voxel_scaled(SvoVoxel a, float w) {
+  SvoVoxel r;
+  r.hbar = w * a.hbar;
+  r.n = w * a.n;
+  r.cov = w * a.cov;
+  r.abar = w * a.abar;
+  r.a_s = w * a.a_s;
+  return r;
+}
+
+// Lattice coordinates of p in the brick of `cell`, in [0, B].
+SVO_FN vec3 svo_local(SvoCell cell, vec3 p) {
+  float B = float(params.tree.x);
+  return clamp((p - cell.lo) / cell.size * B, vec3(0.0f), vec3(B));
+}
+
+SVO_FN uint svo_sample_index(uvec3 i) {
+  uint S = params.tree.x + 1u;
+  return (i.z * S + i.y) * S + i.x;
+}
+
+// Trilinear interpolation of the brick's lattice at p.
+SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p) {
+  vec3 c = svo_local(cell, p);
+  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
+  vec3 f = c - i0f;
+  uvec3 i0 = uvec3(i0f);
+  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0)), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 0u, 0u))), f.x * (1.0f - f.y) * (1.0f - f.z));
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 1u, 0u))), (1.0f - f.x) * f.y * (1.0f - f.z));
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 1u, 0u))), f.x * f.y * (1.0f - f.z));
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 0u, 1u))), (1.0f - f.x) * (1.0f - f.y) * f.z);
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 0u, 1u))), f.x * (1.0f - f.y) * f.z);
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 1u, 1u))), (1.0f - f.x) * f.y * f.z);
+  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 1u, 1u))), f.x * f.y * f.z);
+  return r;
+}
+
+// The lattice point nearest to p (binary-voxel baseline).
+SVO_FN SvoVoxel svo_sample_nearest(SvoCell cell, vec3 p) {
+  return svo_fetch(cell.brick, svo_sample_index(uvec3(floor(svo_local(cell, p) + 0.5f))));
+}
+
+// Descends from the root to the node of `depth` holding p; stops at the
+// first missing node or brick and returns that node's box as empty.
+SVO_FN SvoCell svo_lookup(vec3 p, uint depth) {
+  vec3 q = clamp((p - vec3(params.domain)) / params.domain.w, vec3(0.0f), vec3(0.99999994f));
+  SvoCell c;
+  c.depth = depth;
+  c.lo = vec3(params.domain);
+  c.size = params.domain.w;
+  uvec2 node = svo_node(0u);
+  c.brick = node.y;
+  for (uint k = 1u; k <= depth && c.brick != SVO_ABSENT; ++k) {
+    uvec3 cell = uvec3(q * float(1u << k));
+    c.size = params.domain.w / float(1u << k);
+    c.lo = vec3(params.domain) + vec3(cell) * c.size;
+    if (node.x == SVO_ABSENT) {
+      c.brick = SVO_ABSENT;
+    } else {
+      uvec3 bit = cell & uvec3(1u);
+      node = svo_node(node.x + bit.x + 2u * bit.y + 4u * bit.z);
+      c.brick = node.y;
+    }
+  }
+  return c;
+}
+
+SVO_FN bool svo_cell_holds(SvoCell c, vec3 p, uint depth) {
+  return c.depth == depth && all(greaterThanEqual(p, c.lo)) && all(lessThan(p, c.lo + c.size));
+}
+
+// Distance along the ray (o, inv_d) to where it leaves the box [lo, lo + size].
+SVO_FN float svo_box_exit(vec3 o, vec3 inv_d, vec3 lo, float size) {
+  vec3 t0 = (lo - o) * inv_d;
+  vec3 t1 = (lo + size - o) * inv_d;
+  vec3 tmax = max(t0, t1);
+  return min(min(tmax.x, tmax.y), tmax.z);
+}
+
+SVO_FN float svo_box_entry(vec3 o, vec3 inv_d, vec3 lo, float size) {
+  vec3 t0 = (lo - o) * inv_d;
+  vec3 t1 = (lo + size - o) * inv_d;
+  vec3 tmin = min(t0, t1);
+  return max(max(tmin.x, tmin.y), tmin.z);
+}
+
+SVO_FN vec3 svo_safe_inverse(vec3 d) {
+  vec3 s = vec3(d.x < 0.0f ? -1.0f : 1.0f, d.y < 0.0f ? -1.0f : 1.0f, d.z < 0.0f ? -1.0f : 1.0f);
+  return s / max(abs(d), vec3(1.0e-20f));
+}
+
+SVO_FN SvoCone svo_make_cone(vec3 o, vec3 d, float r0, float k, float aperture, float focus) {
+  SvoCone c;
+  c.o = o;
+  c.d = d;
+  c.inv_d = svo_safe_inverse(d);
+  c.r0 = r0;
+  c.k = k;
+  c.aperture = aperture;
+  c.focus = focus;
+  c.frame = svo_tangent_frame(d);
+  return c;
+}
+
+SVO_FN float svo_cone_radius(SvoCone c, float t) {
+  float r = c.r0 + c.k * t;
+  if (c.aperture > 0.0f) r = max(r, c.aperture * abs(t - c.focus) / c.focus);
+  return max(r, 1.0e-7f * params.domain.w);
+}
+
+// The table's mask for (theta, v), nearest cell; all or nothing outside (-1, 1).
+// Same binning as render::lookup_mask.
+SVO_FN uvec4 svo_mask_lookup(SvoMaskParams mp) {
+  if (!(mp.v > -1.0f)) return uvec4(0u);
+  if (mp.v >= 1.0f) return uvec4(0xFFFFFFFFu);
+  int t = int(floor((mp.theta + SVO_PI) / (2.0f * SVO_PI) * float(SVO_MASK_BINS)));
+  if (t >= int(SVO_MASK_BINS)) t -= int(SVO_MASK_BINS);
+  if (t < 0) t += int(SVO_MASK_BINS);
+  int vi = min(int((mp.v + 1.0f) * 0.5f * float(SVO_MASK_BINS)), int(SVO_MASK_BINS) - 1);
+  return svo_mask(uint(t) * SVO_MASK_BINS + uint(vi));
+}
+
+SVO_FN int svo_popcount(uvec4 m) {
+  ivec4 c = bitCount(m);
+  return c.x + c.y + c.z + c.w;
+}
+
+SVO_FN SvoMarch svo_march_start(float t) {
+  SvoMarch m;
+  m.lo_cell.brick = SVO_ABSENT;
+  m.lo_cell.depth = SVO_ABSENT;
+  m.lo_cell.lo = vec3(0.0f);
+  m.lo_cell.size = 0.0f;
+  m.hi_cell = m.lo_cell;
+  m.t = t;
+  m.hit = false;
+  m.v.hbar = 0.0f;
+  m.v.n = vec3(0.0f, 0.0f, 1.0f);
+  m.v.cov = vec3(0.0f);
+  m.v.abar = vec3(0.0f);
+  m.v.a_s = vec3(0.0f);
+  m.p = vec3(0.0f);
+  m.depth = 0.0f;
+  m.radius = 0.0f;
+  m.mask = uvec4(0u);
+  return m;
+}
+
+// One cone element from m.t: skips a region the octree knows to be empty,
+// or samples the voxel under the element and computes its coverage mask.
+SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
+  float r = svo_cone_radius(cone, m.t);
+  float half_length = max(r, 0.25f * params.material.z);
+  vec3 p = cone.o + cone.d * (m.t + half_length);
+  uint last = params.tree.y - 1u;
+  // Level whose voxel size equals the element's diameter.
+  float df = clamp(log2(params.domain.w / (float(params.tree.x) * 2.0f * r)), 0.0f, float(last));
+  uint lo = mode == SVO_MODE_NEAREST ? uint(floor(df + 0.5f)) : uint(floor(df));
+  float w = mode == SVO_MODE_NEAREST ? 0.0f : df - float(lo);
+  if (!svo_cell_holds(m.lo_cell, p, lo)) m.lo_cell = svo_lookup(p, lo);
+  m.hit = false;
+  m.mask = uvec4(0u);
+  if (m.lo_cell.brick == SVO_ABSENT) {
+    // Empty at this level: jump to where the ray leaves the empty box.
+    float exit = svo_box_exit(cone.o, cone.inv_d, m.lo_cell.lo, m.lo_cell.size);
+    m.t = max(m.t + 2.0f * half_length, exit + 1.0e-5f * m.lo_cell.size);
+    return m;
+  }
+  SvoVoxel v;
+  if (mode == SVO_MODE_NEAREST) {
+    v = svo_sample_nearest(m.lo_cell, p);
+    m.mask = v.hbar <= 0.0f ? uvec4(0xFFFFFFFFu) : uvec4(0u);
+  } else {
+    v = svo_sample_trilinear(m.lo_cell, p);
+    if (w > 0.0f && lo < last) {
+      if (!svo_cell_holds(m.hi_cell, p, lo + 1u)) m.hi_cell = svo_lookup(p, lo + 1u);
+      if (m.hi_cell.brick != SVO_ABSENT) {
+        v = svo_voxel_madd(svo_voxel_scaled(v, 1.0f - w), svo_sample_trilinear(m.hi_cell, p), w);
+      }
+    }
+    float nl = length(v.n);
+    vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
+    vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
+    m.mask = svo_mask_lookup(svo_cone_mask_params(nc, v.hbar, r, half_length));
+  }
+  m.hit = true;
+  m.v = v;
+  m.p = p;
+  m.depth = m.t + half_length;
+  m.radius = r;
+  // The element cannot reach a surface farther than hbar: skip most of the gap.
+  float advance = 2.0f * half_length;
+  if (mode != SVO_MODE_NEAREST && v.hbar > half_length + r) {
+    advance = max(advance, half_length + 0.8f * (v.hbar - r));
+  }
+  m.t += advance;
+  return m;
+}
+
+struct SvoVisibility {
+  float visible;  // unoccluded fraction of the shadow cone's footprint
+  uint steps;
+};
+
+// Visibility of a light from the element at p (radius r0) along unit l, up
+// to `dist`: a cone that starts with the element's radius and widens with
+// the light's size (`spread` per unit distance), occlusion combined as on
+// the primary cone.
+SVO_FN SvoVisibility svo_visibility(vec3 p, vec3 l, float dist, float r0, float spread, float n_dot_l, uint mode) {
+  SvoVisibility vis;
+  vis.visible = 1.0f;
+  vis.steps = 0u;
+  SvoCone cone = svo_make_cone(p, l, r0, spread, 0.0f, 0.0f);
+  float t1 = min(dist, svo_box_exit(p, cone.inv_d, vec3(params.domain), params.domain.w));
+  // Start where the element's own plane no longer reaches into the cone.
+  SvoMarch m = svo_march_start(min(2.0f * r0 / max(n_dot_l, 0.25f), 8.0f * r0));
+  uvec4 alpha = uvec4(0u);
+  float opacity = 0.0f;
+  while (m.t < t1 && vis.steps < SVO_SHADOW_STEPS) {
+    vis.steps += 1u;
+    m = svo_step(m, cone, mode);
+    if (!m.hit) continue;
+    if (mode == SVO_MODE_ALPHA) {
+      opacity += (1.0f - opacity) * float(svo_popcount(m.mask)) / 128.0f;
+      if (opacity >= 0.999f) break;
+    } else {
+      alpha = alpha | m.mask;
+      if (svo_popcount(alpha) == 128) break;
+    }
+  }
+  vis.visible = mode == SVO_MODE_ALPHA ? 1.0f - opacity : 1.0f - float(svo_popcount(alpha)) / 128.0f;
+  return vis;
+}
+
+struct SvoShade {
+  vec3 radiance;
+  vec3 abar;             // colour seen from the camera (Eq. 17 with the view alone in prefiltered mode)
+  vec3 n;                // unit mean normal
+  float slope_variance;  // mean of the total per-axis variances
+  uint steps;            // shadow cone elements
+};
+
+// Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
+// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
+// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
+SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
+  SvoShade s;
+  s.steps = 0u;
+  float nl = length(m.v.n);
+  vec3 n = nl > 0.0f ? m.v.n / nl : view;
+  SvoFrame f = svo_tangent_frame(n);
+  bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
+  vec3 cov = filtered ? max(m.v.cov, vec3(0.0f, 0.0f, -1.0e30f)) : vec3(0.0f);
+  // Principal axes of the slope covariance.
+  float angle = 0.5f * svo_atan2(2.0f * cov.z, cov.x - cov.y);
+  float ca = cos(angle);
+  float sa = sin(angle);
+  vec3 tx = ca * f.t + sa * f.b;
+  vec3 ty = ca * f.b - sa * f.t;
+  vec2 sn2 = max(vec2(ca * ca * cov.x + 2.0f * ca * sa * cov.z + sa * sa * cov.y,
+                      sa * sa * cov.x - 2.0f * ca * sa * cov.z + ca * ca * cov.y),
+                 vec2(0.0f));
+  vec2 total = svo_total_slope_variance(sn2, vec2(params.material.x));
+  vec3 vl = vec3(dot(view, tx), dot(view, ty), dot(view, n));
+  float lambda_v = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(vl, sn2) : 0.0f;
+  vec3 a_view = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v) : m.v.abar;
+  s.radiance = vec3(params.ambient) * a_view;
+  for (uint i = 0u; i < params.tree.w; ++i) {
+    vec4 lv = params.light_vector[i];
+    vec4 lr = params.light_radiance[i];
+    vec3 l = vec3(lv);
+    vec3 e = vec3(lr);
+    float dist = 3.0e38f;
+    if (lv.w > 0.5f) {
+      vec3 to = vec3(lv) - m.p;
+      dist = length(to);
+      l = to / max(dist, 1.0e-30f);
+      e = vec3(lr) / max(dist * dist, 1.0e-30f);
+    }
+    float ndl = dot(n, l);
+    if (!(ndl > 0.0f)) continue;
+    vec3 ll = vec3(dot(l, tx), dot(l, ty), ndl);
+    float visible = 1.0f;
+    if ((params.image.w & SVO_FLAG_SHADOWS) != 0u) {
+      float spread = lv.w > 0.5f ? lr.w / max(dist, 1.0e-30f) : tan(lr.w);
+      SvoVisibility vis = svo_visibility(m.p, l, dist, m.radius, spread, ndl, mode);
+      visible = vis.visible;
+      s.steps += vis.steps;
+    }
+    float lambda_l = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(ll, sn2) : 0.0f;
+    vec3 a = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v + lambda_l) : m.v.abar;
+    vec3 rho = a / SVO_PI + vec3(params.material.y * svo_specular_brdf(vl, ll, total));
+    s.radiance += e * rho * (ndl * visible);
+  }
+  s.abar = a_view;
+  s.n = n;
+  s.slope_variance = 0.5f * (total.x + total.y);
+  return s;
+}
+
+struct SvoPixel {
+  vec4 colour;  // linear RGB; alpha: coverage
+  vec4 g0;      // depth, position
+  vec4 g1;      // normal, total slope variance
+  vec4 g2;      // abar, coverage
+  uint steps;
+};
+
+SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
+  vec2 ndc = (vec2(pixel) + 0.5f) / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
+  vec3 d = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+  uint mode = params.image.z;
+  SvoCone cone = svo_make_cone(vec3(params.eye), d, 0.0f, params.eye.w, params.cam_w.w, params.lens.x);
+  float t0 = max(svo_box_entry(cone.o, cone.inv_d, vec3(params.domain), params.domain.w), 0.0f);
+  float t1 = svo_box_exit(cone.o, cone.inv_d, vec3(params.domain), params.domain.w);
+  SvoMarch m = svo_march_start(t0);
+  vec3 radiance = vec3(0.0f);
+  vec4 g0 = vec4(0.0f);
+  vec4 g1 = vec4(0.0f);
+  vec4 g2 = vec4(0.0f);
+  uvec4 alpha = uvec4(0u);
+  float coverage = 0.0f;
+  uint steps = 0u;
+  while (m.t < t1 && steps < params.tree.z) {
+    steps += 1u;
+    m = svo_step(m, cone, mode);
+    if (!m.hit) continue;
+    // Weight of this element: the bits it sets first, or its opacity in alpha mode.
+    float weight;
+    uvec4 fresh = m.mask & ~alpha;
+    if (mode == SVO_MODE_ALPHA) {
+      weight = (1.0f - coverage) * float(svo_popcount(m.mask)) / 128.0f;
+    } else {
+      weight = float(svo_popcount(fresh)) / 128.0f;
+    }
+    if (!(weight > 0.0f)) continue;
+    SvoShade s = svo_shade(m, -d, mode);
+    steps += s.steps;
+    radiance += weight * s.radiance;
+    g0 += weight * vec4(m.depth, m.p);
+    g1 += weight * vec4(s.n, s.slope_variance);
+    g2 += weight * vec4(s.abar, 1.0f);
+    coverage += weight;
+    alpha = alpha | m.mask;
+    if (mode == SVO_MODE_ALPHA ? coverage >= 0.999f : svo_popcount(alpha) == 128) break;
+  }
+  SvoPixel px;
+  coverage = min(coverage, 1.0f);
+  px.colour = vec4(radiance + (1.0f - coverage) * vec3(params.background), coverage);
+  float inv = coverage > 0.0f ? 1.0f / g2.w : 0.0f;
+  px.g0 = g0 * inv;
+  px.g1 = g1 * inv;
+  px.g2 = vec4(vec3(g2) * inv, coverage);
+  px.steps = steps;
+  return px;
+}
+
+#endif

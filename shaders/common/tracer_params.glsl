@@ -1,0 +1,50 @@
+// The parameters of one trace, laid out identically in C++ and in the
+// shader's std430 block: vec4 and uvec4 members only, so that no member
+// needs padding on either side.
+#ifndef SVO_TRACER_PARAMS_GLSL
+#define SVO_TRACER_PARAMS_GLSL
+#include "prelude.glsl"
+
+SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;  // channel offset of a channel the file lacks
+SVO_CONST uint SVO_MAX_LIGHTS = 4u;
+
+// Modes (render::Mode).
+SVO_CONST uint SVO_MODE_PREFILTERED = 0u;
+SVO_CONST uint SVO_MODE_NEAREST = 1u;
+SVO_CONST uint SVO_MODE_ALPHA = 2u;
+SVO_CONST uint SVO_MODE_MIP = 3u;
+
+// Flags (image.w).
+SVO_CONST uint SVO_FLAG_SHADOWS = 1u;
+SVO_CONST uint SVO_FLAG_GBUFFER = 2u;
+
+SVO_CONST uint SVO_MASK_BINS = 256u;     // the mask table is SVO_MASK_BINS x SVO_MASK_BINS over (theta, v)
+SVO_CONST uint SVO_SHADOW_STEPS = 512u;  // cone elements per shadow cone at most
+
+// Encodings of the channels that have more than one (octree::Encoding values).
+SVO_CONST uint SVO_ENC_F32 = 1u;
+SVO_CONST uint SVO_ENC_U8_LOG_RELATIVE = 3u;
+SVO_CONST uint SVO_ENC_U8_LOG_SLOPE = 4u;
+
+struct SvoTraceParams {
+  vec4 eye;        // xyz: camera position; w: cone radius per unit distance (pixel footprint)
+  vec4 cam_u;      // xyz: right * tan(fov / 2) * aspect
+  vec4 cam_v;      // xyz: up * tan(fov / 2)
+  vec4 cam_w;      // xyz: unit view direction; w: lens radius (0: pinhole)
+  vec4 lens;       // x: focus distance
+  vec4 domain;     // xyz: origin of the cube; w: its side
+  vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size
+  vec4 constant_colour;  // abar when the file has no colour
+  vec4 ambient;    // rgb
+  vec4 background;  // rgb
+  uvec4 image;     // width, height, mode, flags
+  uvec4 tree;      // brick_size, depth_count, max_steps, light_count
+  uvec4 pool;      // bytes per brick (all channels), bricks per pool chunk
+  uvec4 offsets_a;  // byte offset in a brick of: distance, normal, height_dev, slope_dev (SVO_ABSENT)
+  uvec4 offsets_b;  // slope_cov, colour, colour_slope, unused
+  uvec4 encodings;  // encoding of: height_dev, slope_dev
+  vec4 light_vector[4];    // xyz: direction towards the light, or position; w: 1 point, 0 directional
+  vec4 light_radiance[4];  // rgb: irradiance (directional) or intensity (point); w: size
+};
+
+#endif

@@ -1,0 +1,142 @@
+// The cone tracer on the CPU (render_cpu runs shaders/common/tracer.glsl as
+// C++): exact coverage of a plane, silhouette coverage of a sphere against
+// the analytic footprint coverage, and paper Fig. 4 on correlated elements.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_scenes.h"
+
+namespace svo::render {
+namespace {
+
+float coverage(const Frame& f, uint32_t x, uint32_t y) { return f.colour[size_t(y) * f.width + x].a; }
+
+// The unit vector through the centre of pixel (x, y) plus offset (dx, dy) in pixels.
+glm::vec3 pixel_ray(const Camera& c, uint32_t w, uint32_t h, float x, float y) {
+  glm::vec3 fw = glm::normalize(c.target - c.eye), u = glm::normalize(glm::cross(fw, c.up)), v = glm::cross(u, fw);
+  float t = std::tan(glm::radians(c.fov_deg) * 0.5f);
+  float nx = (x / float(w)) * 2 - 1, ny = (y / float(h)) * 2 - 1;
+  return glm::normalize(fw + nx * t * float(w) / float(h) * u - ny * t * v);
+}
+
+TEST(Tracer, PlaneFacingTheCameraCoversExactlyTheExpectedPixels) {
+  // A thin square plate [-0.5, 0.5]^2 at z = 0 seen along -z; the camera puts
+  // its edges halfway between pixel centres.
+  test::BoxScene plate({-0.5f, -0.5f, -0.02f}, {0.5f, 0.5f, 0.02f});
+  octree::Octree tree = test::voxelize(plate, 128);
+  RenderSettings s;
+  s.width = s.height = 48;
+  // 48 pixels span 2 tan(fov/2) * 4 = 1.5 units: the plate spans 32 pixels.
+  float z = 4.0f + 0.02f;
+  s.camera = test::looking_at_origin({0, 0, z}, 2 * glm::degrees(std::atan(0.75f / z)));
+  Frame f = render_cpu(tree, s);
+  test::save_for_inspection(f, "plane");
+  int wrong = 0;
+  for (uint32_t y = 0; y < s.height; ++y) {
+    for (uint32_t x = 0; x < s.width; ++x) {
+      bool inside = x >= 8 && x < 40 && y >= 8 && y < 40;
+      float c = coverage(f, x, y);
+      // Pixels whose centre sees the plate are more than half covered, the
+      // others less; away from the edges, all or nothing (the pre-filtered edge
+      // spreads over about one voxel of the cone's level, about a pixel).
+      bool edge = (x >= 6 && x < 10) || (x >= 38 && x < 42) || (y >= 6 && y < 10) || (y >= 38 && y < 42);
+      bool ok = inside ? c > 0.5f && (edge || c > 0.99f) : c < 0.5f && (edge || c < 0.01f);
+      if (!ok && ++wrong < 10) ADD_FAILURE() << "pixel " << x << "," << y << " coverage " << c;
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(Tracer, SphereSilhouetteCoverageMatchesTheAnalyticFootprintCoverage) {
+  const float radius = 0.5f;
+  test::SphereScene sphere(radius);
+  octree::Octree tree = test::voxelize(sphere, 256);
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.camera = test::looking_at_origin({0.3f, 0.4f, 3.0f}, 25.0f);
+  Frame f = render_cpu(tree, s);
+  test::save_for_inspection(f, "sphere");
+  // Analytic coverage of each pixel's footprint disk (radius pixel / sqrt(pi)):
+  // the fraction of rays through a fine grid of the disk that meet the sphere.
+  const float r_px = 1.0f / std::sqrt(3.14159265f);
+  double sum = 0;
+  int silhouette = 0;
+  for (uint32_t y = 0; y < s.height; ++y) {
+    for (uint32_t x = 0; x < s.width; ++x) {
+      int hits = 0, total = 0;
+      for (int j = 0; j < 24; ++j) {
+        for (int i = 0; i < 24; ++i) {
+          float dx = ((i + 0.5f) / 24 * 2 - 1) * r_px, dy = ((j + 0.5f) / 24 * 2 - 1) * r_px;
+          if (dx * dx + dy * dy > r_px * r_px) continue;
+          glm::vec3 d = pixel_ray(s.camera, s.width, s.height, x + 0.5f + dx, y + 0.5f + dy);
+          glm::vec3 o = s.camera.eye;
+          float b = glm::dot(o, d), c = glm::dot(o, o) - radius * radius;
+          hits += b * b - c >= 0 && b < 0 ? 1 : 0;
+          ++total;
+        }
+      }
+      float exact = float(hits) / float(total);
+      if (exact > 0.0f && exact < 1.0f) {
+        sum += std::abs(coverage(f, x, y) - exact);
+        ++silhouette;
+      } else {
+        EXPECT_NEAR(coverage(f, x, y), exact, 0.15f) << "pixel " << x << "," << y;
+      }
+    }
+  }
+  ASSERT_GT(silhouette, 50);
+  double mean = sum / silhouette;
+  EXPECT_LT(mean, 0.03) << "mean absolute coverage error over " << silhouette << " silhouette pixels";
+  std::printf("sphere silhouette: %d pixels, mean absolute coverage error %.4f\n", silhouette, mean);
+}
+
+// Paper Fig. 4: the eye looks along the face x = 0 of a half-space, so the
+// rays of the middle column run inside that plane and every cone element
+// there sees the same half-covered footprint. OR-ed masks keep
+// the pixel half covered; alpha blending of the same coverages thickens it
+// towards 1.
+TEST(Tracer, CorrelatedElementsKeepAHalfCoveredPixelHalfCovered) {
+  test::HalfSpaceScene half({{-0.6f, -0.3f, -0.6f}, {0.6f, 0.3f, 0.6f}});
+  octree::Octree tree = test::voxelize(half, 128);
+  RenderSettings s;
+  s.width = 33;  // odd: the middle column's rays lie in the plane x = 0
+  s.height = 16;
+  s.camera = test::looking_at_origin({0, 0, 3.0f}, 4.0f);
+  for (Mode mode : {Mode::Prefiltered, Mode::Alpha}) {
+    s.mode = mode;
+    Frame f = render_cpu(tree, s);
+    test::save_for_inspection(f, std::string("fig4-") + mode_name(mode));
+    double sum = 0;
+    for (uint32_t y = 0; y < s.height; ++y) sum += coverage(f, 16, y);
+    double mean = sum / s.height;
+    std::printf("%s: middle column coverage %.3f after %.1f elements per pixel\n", mode_name(mode), mean,
+                f.steps_per_pixel);
+    if (mode == Mode::Prefiltered) {
+      EXPECT_NEAR(mean, 0.5, 0.05) << "prefiltered";
+      for (uint32_t y = 0; y < s.height; ++y) EXPECT_NEAR(coverage(f, 16, y), 0.5f, 0.08f) << "row " << y;
+    } else {
+      EXPECT_GT(mean, 0.8) << "alpha blending should thicken the edge";
+    }
+    // Columns left of the edge are covered, right of it empty.
+    EXPECT_GT(coverage(f, 10, 8), 0.99f);
+    EXPECT_LT(coverage(f, 22, 8), 0.01f);
+  }
+}
+
+TEST(Tracer, RejectsBadSettingsWithAMessage) {
+  test::SphereScene sphere(0.5f);
+  octree::Octree tree = test::voxelize(sphere, 32);
+  RenderSettings s;
+  s.width = 0;
+  EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
+  s.width = 8;
+  s.camera.target = s.camera.eye;
+  EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
+  s.camera = test::looking_at_origin({0, 0, 3}, 40);
+  s.lights.assign(kMaxLights + 1, Light{});
+  EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace svo::render
