@@ -27,7 +27,7 @@ struct GpuRenderer::Impl {
   const octree::Octree& tree;
   PackedOctree packed;
   uint32_t bricks_per_slot = 1;
-  vk::ComputeKernel kernel;
+  std::optional<vk::ComputeKernel> kernel;  // created once the number of pool buffers is known
   vk::Buffer params;
   vk::Buffer nodes;
   vk::Buffer masks;
@@ -35,11 +35,10 @@ struct GpuRenderer::Impl {
   std::optional<vk::Buffer> colour, gbuffer, steps;
   size_t pool_bytes = 0;
 
-  Impl(vk::Context& c, const octree::Octree& t)
+  Impl(vk::Context& c, const octree::Octree& t, uint64_t max_buffer_bytes)
       : context(c),
         tree(t),
         packed(pack_octree(t)),
-        kernel(c, svo_spv_trace_comp, kBindings, 0),
         params(c, sizeof(TraceParams)),
         nodes(c, std::max<size_t>(8, packed.nodes.size() * sizeof(glm::uvec2))),
         masks(c, tracer_mask_table().masks.size() * sizeof(Mask)) {
@@ -47,7 +46,8 @@ struct GpuRenderer::Impl {
     std::memcpy(masks.data(), tracer_mask_table().masks.data(), masks.size());
     // Whole bricks per storage buffer, plus one word of padding for the last
     // unaligned read.
-    const uint64_t range = context.info().max_storage_buffer_range;
+    uint64_t range = context.info().max_storage_buffer_range;
+    if (max_buffer_bytes > 0) range = std::min(range, max_buffer_bytes);
     if (range < uint64_t(packed.brick_bytes) + 4) {
       throw vk::Error("a brick of " + std::to_string(packed.brick_bytes) + " bytes exceeds maxStorageBufferRange " +
                       std::to_string(range));
@@ -68,6 +68,8 @@ struct GpuRenderer::Impl {
       pool_bytes += bytes;
     }
     pool_bytes += nodes.size() + masks.size();
+    const uint32_t specialization[] = {uint32_t(pools.size())};
+    kernel.emplace(context, svo_spv_trace_comp, kBindings, 0, specialization);
   }
 
   vk::Buffer& ensure(std::optional<vk::Buffer>& buffer, size_t bytes) {
@@ -97,7 +99,7 @@ struct GpuRenderer::Impl {
     Frame frame;
     frame.width = settings.width;
     frame.height = settings.height;
-    frame.gpu_ms = kernel.dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
+    frame.gpu_ms = kernel->dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
                                    (settings.height + kGroup - 1) / kGroup);
     auto colours = out.as<glm::vec4>();
     frame.colour.assign(colours.begin(), colours.begin() + pixels);
@@ -117,8 +119,8 @@ struct GpuRenderer::Impl {
   }
 };
 
-GpuRenderer::GpuRenderer(vk::Context& context, const octree::Octree& tree)
-    : impl_(std::make_unique<Impl>(context, tree)) {}
+GpuRenderer::GpuRenderer(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes)
+    : impl_(std::make_unique<Impl>(context, tree, max_buffer_bytes)) {}
 
 GpuRenderer::~GpuRenderer() = default;
 
@@ -126,4 +128,8 @@ Frame GpuRenderer::render(const RenderSettings& settings) { return impl_->render
 
 std::size_t GpuRenderer::pool_bytes() const { return impl_->pool_bytes; }
 
+}  // namespace svo::render
+
+namespace svo::render {
+uint32_t GpuRenderer::pool_buffers() const { return uint32_t(impl_->pools.size()); }
 }  // namespace svo::render

@@ -53,7 +53,7 @@ Buffer::~Buffer() {
 }
 
 ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
-                             uint32_t push_constant_bytes)
+                             uint32_t push_constant_bytes, std::span<const uint32_t> specialization)
     : context_(context), storage_buffers_(storage_buffers), push_bytes_(push_constant_bytes) {
   if (spirv.empty() || spirv[0] != 0x07230203u) {
     throw Error("Vulkan: compute kernel given " + std::to_string(spirv.size()) +
@@ -98,6 +98,12 @@ ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, 
   pipeline.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   pipeline.stage.module = module_;
   pipeline.stage.pName = "main";
+  // Specialization constants: constant_id i takes specialization[i].
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, i * 4u, 4u});
+  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), specialization.size_bytes(),
+                            specialization.data()};
+  if (!specialization.empty()) pipeline.stage.pSpecializationInfo = &spec;
   pipeline.layout = layout_;
   SVO_VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_));
 

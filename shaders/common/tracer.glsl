@@ -66,6 +66,7 @@ struct SvoMarch {
   vec3 p;           // centre of the last element
   float depth;      // its distance along the cone
   float radius;
+  float blend;      // weight of the finer level (hi_cell) in v; 0: the coarser alone
   uvec4 mask;       // its sub-pixel coverage
 };
 
@@ -77,14 +78,25 @@ SVO_FN uint svo_byte(uint brick, uint offset) {
   return svo_brick_bytes(brick, offset) & 255u;
 }
 
-SVO_FN SvoVoxel svo_fetch(uint brick, uint s) {
+// What svo_fetch decodes: most cone elements need the distance only, the
+// mask needs the normal too, and only elements that reach the pixel need the
+// shading attributes.
+// (SVO_PART_* in tracer_params.glsl.)
+// Sample s of a brick; fields outside `parts` are zero.
+SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   SvoVoxel v;
-  v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
+  v.hbar = 0.0f;
+  v.n = vec3(0.0f);
+  v.cov = vec3(0.0f);
+  v.abar = vec3(0.0f);
+  v.a_s = vec3(0.0f);
+  if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
+  if ((parts & SVO_PART_NORMAL) == 0u) return v;
   v.n = vec3(0.0f, 0.0f, 1.0f);
   if (params.offsets_a.y != SVO_ABSENT) {
     v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 3u) & 0xFFFFFFu);
   }
-  v.cov = vec3(0.0f);
+  if ((parts & SVO_PART_SHADING) == 0u) return v;
   if (params.offsets_b.x != SVO_ABSENT) {
     uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 3u);
     float sx = svo_decode_u8_log_slope(b & 255u);
@@ -102,7 +114,6 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s) {
     uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 3u);
     v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
   }
-  v.a_s = vec3(0.0f);
   if (params.offsets_b.z != SVO_ABSENT) {
     uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 3u);
     v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
@@ -143,25 +154,24 @@ SVO_FN uint svo_sample_index(uvec3 i) {
 }
 
 // Trilinear interpolation of the brick's lattice at p.
-SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p) {
+SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
   vec3 c = svo_local(cell, p);
   vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
   vec3 f = c - i0f;
   uvec3 i0 = uvec3(i0f);
-  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0)), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 0u, 0u))), f.x * (1.0f - f.y) * (1.0f - f.z));
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 1u, 0u))), (1.0f - f.x) * f.y * (1.0f - f.z));
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 1u, 0u))), f.x * f.y * (1.0f - f.z));
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 0u, 1u))), (1.0f - f.x) * (1.0f - f.y) * f.z);
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 0u, 1u))), f.x * (1.0f - f.y) * f.z);
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(0u, 1u, 1u))), (1.0f - f.x) * f.y * f.z);
-  r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + uvec3(1u, 1u, 1u))), f.x * f.y * f.z);
+  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
+  for (uint k = 1u; k < 8u; ++k) {
+    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
+    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
+    r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
+  }
   return r;
 }
 
 // The lattice point nearest to p (binary-voxel baseline).
 SVO_FN SvoVoxel svo_sample_nearest(SvoCell cell, vec3 p) {
-  return svo_fetch(cell.brick, svo_sample_index(uvec3(floor(svo_local(cell, p) + 0.5f))));
+  return svo_fetch(cell.brick, svo_sample_index(uvec3(floor(svo_local(cell, p) + 0.5f))),
+                   SVO_PART_DISTANCE | SVO_PART_NORMAL | SVO_PART_SHADING);
 }
 
 // Descends from the root to the node of `depth` holding p; stops at the
@@ -266,6 +276,7 @@ SVO_FN SvoMarch svo_march_start(float t) {
   m.p = vec3(0.0f);
   m.depth = 0.0f;
   m.radius = 0.0f;
+  m.blend = 0.0f;
   m.mask = uvec4(0u);
   return m;
 }
@@ -291,21 +302,29 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     return m;
   }
   SvoVoxel v;
+  m.blend = 0.0f;
   if (mode == SVO_MODE_NEAREST) {
     v = svo_sample_nearest(m.lo_cell, p);
     m.mask = v.hbar <= 0.0f ? uvec4(0xFFFFFFFFu) : uvec4(0u);
   } else {
-    v = svo_sample_trilinear(m.lo_cell, p);
+    // The distance first: an element farther than its radius and half length
+    // from the mean plane covers nothing, whatever the normal.
+    v = svo_sample_trilinear(m.lo_cell, p, SVO_PART_DISTANCE);
     if (w > 0.0f && lo < last) {
       if (!svo_cell_holds(m.hi_cell, p, lo + 1u)) m.hi_cell = svo_lookup(p, lo + 1u);
       if (m.hi_cell.brick != SVO_ABSENT) {
-        v = svo_voxel_madd(svo_voxel_scaled(v, 1.0f - w), svo_sample_trilinear(m.hi_cell, p), w);
+        m.blend = w;
+        v.hbar = mix(v.hbar, svo_sample_trilinear(m.hi_cell, p, SVO_PART_DISTANCE).hbar, w);
       }
     }
-    float nl = length(v.n);
-    vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
-    vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
-    m.mask = svo_mask_lookup(svo_cone_mask_params(nc, v.hbar, r, half_length));
+    if (v.hbar < half_length + r) {
+      v.n = svo_sample_trilinear(m.lo_cell, p, SVO_PART_NORMAL).n;
+      if (m.blend > 0.0f) v.n = mix(v.n, svo_sample_trilinear(m.hi_cell, p, SVO_PART_NORMAL).n, m.blend);
+      float nl = length(v.n);
+      vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
+      vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
+      m.mask = svo_mask_lookup(svo_cone_mask_params(nc, v.hbar, r, half_length));
+    }
   }
   m.hit = true;
   m.v = v;
@@ -370,6 +389,17 @@ struct SvoShade {
 SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   SvoShade s;
   s.steps = 0u;
+  if (mode != SVO_MODE_NEAREST) {
+    // The shading attributes of the element, interpolated as its geometry was.
+    SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL);
+    if (m.blend > 0.0f) {
+      a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend),
+                         svo_sample_trilinear(m.hi_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL), m.blend);
+    }
+    m.v.cov = a.cov;
+    m.v.abar = a.abar;
+    m.v.a_s = a.a_s;
+  }
   float nl = length(m.v.n);
   vec3 n = nl > 0.0f ? m.v.n / nl : view;
   SvoFrame f = svo_tangent_frame(n);

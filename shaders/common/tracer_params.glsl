@@ -18,6 +18,11 @@ SVO_CONST uint SVO_MODE_MIP = 3u;
 SVO_CONST uint SVO_FLAG_SHADOWS = 1u;
 SVO_CONST uint SVO_FLAG_GBUFFER = 2u;
 
+// Parts of a voxel svo_fetch decodes (tracer.glsl).
+SVO_CONST uint SVO_PART_DISTANCE = 1u;
+SVO_CONST uint SVO_PART_NORMAL = 2u;
+SVO_CONST uint SVO_PART_SHADING = 4u;
+
 SVO_CONST uint SVO_MASK_BINS = 256u;     // the mask table is SVO_MASK_BINS x SVO_MASK_BINS over (theta, v)
 SVO_CONST uint SVO_SHADOW_STEPS = 512u;  // cone elements per shadow cone at most
 

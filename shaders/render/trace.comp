@@ -6,29 +6,33 @@
 #include "common/tracer_params.glsl"
 
 #define SVO_POOL_SLOTS 8
+// How many pool buffers hold bricks (specialised at pipeline creation, so
+// that the usual single buffer costs no branch).
+layout(constant_id = 0) const uint SVO_POOL_BUFFERS = SVO_POOL_SLOTS;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(std430, set = 0, binding = 0) readonly buffer ParamsBlock { SvoTraceParams params; };
-layout(std430, set = 0, binding = 1) readonly buffer Nodes { uvec2 nodes[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Masks { uvec4 masks[]; };
-layout(std430, set = 0, binding = 3) writeonly buffer ColourOut { vec4 colour_out[]; };
-layout(std430, set = 0, binding = 4) writeonly buffer GBufferOut { vec4 gbuffer_out[]; };
-layout(std430, set = 0, binding = 5) writeonly buffer StepsOut { uint steps_out[]; };
-layout(std430, set = 0, binding = 6) readonly buffer Pool0 { uint pool0[]; };
-layout(std430, set = 0, binding = 7) readonly buffer Pool1 { uint pool1[]; };
-layout(std430, set = 0, binding = 8) readonly buffer Pool2 { uint pool2[]; };
-layout(std430, set = 0, binding = 9) readonly buffer Pool3 { uint pool3[]; };
-layout(std430, set = 0, binding = 10) readonly buffer Pool4 { uint pool4[]; };
-layout(std430, set = 0, binding = 11) readonly buffer Pool5 { uint pool5[]; };
-layout(std430, set = 0, binding = 12) readonly buffer Pool6 { uint pool6[]; };
-layout(std430, set = 0, binding = 13) readonly buffer Pool7 { uint pool7[]; };
+layout(std430, set = 0, binding = 0) readonly restrict buffer ParamsBlock { SvoTraceParams params; };
+layout(std430, set = 0, binding = 1) readonly restrict buffer Nodes { uvec2 nodes[]; };
+layout(std430, set = 0, binding = 2) readonly restrict buffer Masks { uvec4 masks[]; };
+layout(std430, set = 0, binding = 3) writeonly restrict buffer ColourOut { vec4 colour_out[]; };
+layout(std430, set = 0, binding = 4) writeonly restrict buffer GBufferOut { vec4 gbuffer_out[]; };
+layout(std430, set = 0, binding = 5) writeonly restrict buffer StepsOut { uint steps_out[]; };
+layout(std430, set = 0, binding = 6) readonly restrict buffer Pool0 { uint pool0[]; };
+layout(std430, set = 0, binding = 7) readonly restrict buffer Pool1 { uint pool1[]; };
+layout(std430, set = 0, binding = 8) readonly restrict buffer Pool2 { uint pool2[]; };
+layout(std430, set = 0, binding = 9) readonly restrict buffer Pool3 { uint pool3[]; };
+layout(std430, set = 0, binding = 10) readonly restrict buffer Pool4 { uint pool4[]; };
+layout(std430, set = 0, binding = 11) readonly restrict buffer Pool5 { uint pool5[]; };
+layout(std430, set = 0, binding = 12) readonly restrict buffer Pool6 { uint pool6[]; };
+layout(std430, set = 0, binding = 13) readonly restrict buffer Pool7 { uint pool7[]; };
 
 uvec2 svo_node(uint index) { return nodes[index]; }
 
 uvec4 svo_mask(uint cell) { return masks[cell]; }
 
 uint svo_pool_word(uint slot, uint i) {
+  if (SVO_POOL_BUFFERS == 1u) return pool0[i];
   switch (slot) {
     case 0u: return pool0[i];
     case 1u: return pool1[i];

@@ -95,7 +95,9 @@ struct Frame {
 class GpuRenderer {
  public:
   // Throws vk::Error naming the limit when the octree cannot fit on the device.
-  GpuRenderer(vk::Context& context, const octree::Octree& tree);
+  // `max_buffer_bytes` lowers the size of one pool buffer below the device's
+  // maxStorageBufferRange (0: the device's limit); tests use it to split pools.
+  GpuRenderer(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes = 0);
   ~GpuRenderer();
   GpuRenderer(const GpuRenderer&) = delete;
   GpuRenderer& operator=(const GpuRenderer&) = delete;
@@ -104,7 +106,8 @@ class GpuRenderer {
   // device's limits, too many lights), vk::Error for Vulkan failures.
   Frame render(const RenderSettings& settings);
 
-  std::size_t pool_bytes() const;  // device memory held by the octree pools
+  std::size_t pool_bytes() const;    // device memory held by the octree pools
+  uint32_t pool_buffers() const;     // storage buffers the bricks are split across
 
  private:
   struct Impl;

@@ -41,11 +41,12 @@ class Buffer {
 };
 
 // A compute pipeline whose set 0 holds `storage_buffers` storage buffers at
-// bindings 0..n-1, with an optional push-constant block.
+// bindings 0..n-1, with an optional push-constant block and 32-bit
+// specialization constants (constant_id i = specialization[i]).
 class ComputeKernel {
  public:
   ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
-                uint32_t push_constant_bytes);
+                uint32_t push_constant_bytes, std::span<const uint32_t> specialization = {});
   ~ComputeKernel();
   ComputeKernel(const ComputeKernel&) = delete;
   ComputeKernel& operator=(const ComputeKernel&) = delete;

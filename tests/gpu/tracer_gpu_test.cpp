@@ -1,0 +1,110 @@
+// The Vulkan tracer against the CPU one (the same tracer.glsl), with the
+// validation layer on and required silent.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "../render/test_scenes.h"
+#include "svo/render/renderer.h"
+#include "svo/render/vk_context.h"
+
+namespace svo::render {
+namespace {
+
+struct Difference {
+  double mean = 0;     // mean absolute difference over RGBA
+  double above = 0;    // fraction of pixels with a channel differing by more than `bound`
+  double max = 0;
+};
+
+Difference compare(const Frame& a, const Frame& b, float bound) {
+  Difference d;
+  size_t over = 0;
+  for (size_t i = 0; i < a.colour.size(); ++i) {
+    glm::vec4 e = glm::abs(a.colour[i] - b.colour[i]);
+    float m = std::max(std::max(e.x, e.y), std::max(e.z, e.w));
+    d.mean += double(e.x + e.y + e.z + e.w) / 4;
+    d.max = std::max(d.max, double(m));
+    over += m > bound ? 1 : 0;
+  }
+  d.mean /= double(a.colour.size());
+  d.above = double(over) / double(a.colour.size());
+  return d;
+}
+
+class TracerGpu : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    auto scene = voxelizer::make_scene("bumpy-sphere");
+    tree_ = new octree::Octree(test::voxelize(*scene, 128));
+  }
+  static void TearDownTestSuite() { delete tree_; }
+  static octree::Octree* tree_;
+};
+octree::Octree* TracerGpu::tree_ = nullptr;
+
+// Agreement within an explicit tolerance: the two sides differ only in
+// float rounding (Vulkan allows a few ulp in division, sqrt, exp), which can
+// move a mask lookup to the neighbouring table cell (1/128 of coverage) or
+// a level blend by a hair.
+TEST_F(TracerGpu, AgreesWithTheCpuTracerInEveryMode) {
+  vk::ContextOptions options;
+  options.validation = true;
+  vk::Context context(options);
+  GpuRenderer gpu(context, *tree_);
+  RenderSettings s;
+  s.width = s.height = 48;
+  s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+  s.gbuffer = true;
+  for (Mode mode : {Mode::Prefiltered, Mode::Nearest, Mode::Alpha, Mode::Mip}) {
+    s.mode = mode;
+    s.shadows = mode == Mode::Prefiltered;
+    Frame g = gpu.render(s), c = render_cpu(*tree_, s);
+    ASSERT_EQ(g.colour.size(), c.colour.size());
+    Difference d = compare(g, c, 0.02f);
+    std::printf("%s: mean |gpu - cpu| %.2e, max %.3f, pixels above 0.02: %.2f%%, gpu %.1f ms\n", mode_name(mode),
+                d.mean, d.max, 100 * d.above, g.gpu_ms);
+    EXPECT_LT(d.mean, 2e-3) << mode_name(mode);
+    EXPECT_LT(d.above, 0.01) << mode_name(mode);
+    EXPECT_GT(g.covered_pixels, s.width * s.height / 4) << mode_name(mode);
+    EXPECT_NEAR(double(g.covered_pixels), double(c.covered_pixels), 0.01 * s.width * s.height) << mode_name(mode);
+    // The G-buffer: same surface depth where both are fully covered.
+    int compared = 0, depth_off = 0;
+    for (size_t i = 0; i < g.gbuffer.size(); ++i) {
+      if (g.gbuffer[i].coverage < 1 || c.gbuffer[i].coverage < 1) continue;
+      ++compared;
+      depth_off += std::abs(g.gbuffer[i].depth - c.gbuffer[i].depth) > 0.01f ? 1 : 0;
+    }
+    EXPECT_GT(compared, 100);
+    EXPECT_LT(depth_off, compared / 100 + 1) << mode_name(mode);
+  }
+  auto messages = context.validation_messages();
+  EXPECT_TRUE(messages.empty()) << messages.front();
+}
+
+// Bricks split across several storage buffers render the same image.
+TEST_F(TracerGpu, PoolsSplitAcrossBuffersRenderTheSameImage) {
+  vk::ContextOptions options;
+  options.validation = true;
+  vk::Context context(options);
+  GpuRenderer whole(context, *tree_);
+  RenderSettings s;
+  s.width = s.height = 32;
+  s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+  Frame a = whole.render(s);
+  uint64_t brick_bytes = 0;
+  for (const auto& data : tree_->brick_data) brick_bytes += data.size();
+  GpuRenderer split(context, *tree_, brick_bytes / 5);
+  EXPECT_GE(split.pool_buffers(), 5u);
+  Frame b = split.render(s);
+  Difference d = compare(a, b, 0.0f);
+  EXPECT_EQ(d.max, 0.0);
+  // More buffers than the tracer binds: refused, naming the limit.
+  EXPECT_THROW(GpuRenderer(context, *tree_, brick_bytes / 9), vk::Error);
+  auto messages = context.validation_messages();
+  EXPECT_TRUE(messages.empty()) << messages.front();
+}
+
+}  // namespace
+}  // namespace svo::render
