@@ -19,9 +19,10 @@ struct CpuTracer {
 
   uvec2 svo_node(uint index) const { return nodes[index]; }
   uint svo_brick_bytes(uint brick, uint offset) const {
+    size_t at = size_t(brick) * params.pool.x + offset;
     uint v;
-    std::memcpy(&v, bricks + size_t(brick) * params.pool.x + offset, 4);
-    return v;
+    std::memcpy(&v, bricks + (at & ~size_t(3)), 4);
+    return v >> ((at & 3u) * 8u);
   }
   uvec4 svo_mask(uint cell) const { return masks[cell]; }
 

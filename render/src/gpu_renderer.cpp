@@ -44,8 +44,8 @@ struct GpuRenderer::Impl {
         masks(c, tracer_mask_table().masks.size() * sizeof(Mask)) {
     std::memcpy(nodes.data(), packed.nodes.data(), packed.nodes.size() * sizeof(glm::uvec2));
     std::memcpy(masks.data(), tracer_mask_table().masks.data(), masks.size());
-    // Whole bricks per storage buffer, plus one word of padding for the last
-    // unaligned read.
+    // Whole bricks per storage buffer, plus one word so that no buffer is
+    // empty.
     uint64_t range = context.info().max_storage_buffer_range;
     if (max_buffer_bytes > 0) range = std::min(range, max_buffer_bytes);
     if (range < uint64_t(packed.brick_bytes) + 4) {
@@ -70,6 +70,13 @@ struct GpuRenderer::Impl {
     pool_bytes += nodes.size() + masks.size();
     const uint32_t specialization[] = {uint32_t(pools.size())};
     kernel.emplace(context, svo_spv_trace_comp, kBindings, 0, specialization);
+    // Drivers may compile the pipeline at its first dispatch (lavapipe takes
+    // about a second): do it here, so that frame times are frame times.
+    RenderSettings warm_up;
+    warm_up.width = warm_up.height = 1;
+    warm_up.camera.eye = t.origin - glm::vec3(t.size);
+    warm_up.camera.target = t.origin + 0.5f * glm::vec3(t.size);
+    render(warm_up);
   }
 
   vk::Buffer& ensure(std::optional<vk::Buffer>& buffer, size_t bytes) {

@@ -12,6 +12,13 @@ namespace svo::render {
 
 namespace {
 
+// Bytes between samples of a channel in the pool: 3-byte encodings take a
+// whole word, so that every read of the tracer is one aligned load.
+uint32_t pool_stride(octree::Encoding encoding) {
+  uint32_t size = octree::encoding_bytes(encoding);
+  return size == 3 ? 4 : size;
+}
+
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
@@ -76,16 +83,23 @@ PackedOctree pack_octree(const octree::Octree& tree) {
         p.offsets_b.z = bytes;
         break;
     }
-    bytes += samples * octree::encoding_bytes(info.encoding);
+    bytes += (samples * pool_stride(info.encoding) + 3u) & ~3u;
   }
-  p.brick_bytes = (bytes + 3u) & ~3u;
+  p.brick_bytes = bytes;
   p.brick_count = tree.brick_count;
   p.bricks.assign(size_t(p.brick_count) * p.brick_bytes + 4, 0);
   for (size_t c = 0; c < tree.channels.size(); ++c) {
-    const size_t channel_bytes = size_t(samples) * octree::encoding_bytes(tree.channels[c].encoding);
+    const uint32_t size = octree::encoding_bytes(tree.channels[c].encoding);
+    const uint32_t stride = pool_stride(tree.channels[c].encoding);
+    const size_t channel_bytes = size_t(samples) * size;
     for (uint64_t b = 0; b < p.brick_count; ++b) {
-      std::memcpy(p.bricks.data() + b * p.brick_bytes + offset[c], tree.brick_data[c].data() + b * channel_bytes,
-                  channel_bytes);
+      const uint8_t* from = tree.brick_data[c].data() + b * channel_bytes;
+      uint8_t* to = p.bricks.data() + b * p.brick_bytes + offset[c];
+      if (stride == size) {
+        std::memcpy(to, from, channel_bytes);
+      } else {
+        for (uint32_t i = 0; i < samples; ++i) std::memcpy(to + i * stride, from + i * size, size);
+      }
     }
   }
   return p;

@@ -19,8 +19,9 @@ using TraceParams = svo::math::SvoTraceParams;
 static_assert(sizeof(TraceParams) == 24 * 16, "std430 layout: vec4/uvec4 members only");
 
 // The octree as the tracer reads it: nodes as (children, brick) pairs, and
-// every brick's channels one after the other in one record of `brick_bytes`
-// (a multiple of 4), so that one index finds all of a voxel.
+// every brick's channels one after the other in one record of `brick_bytes`,
+// so that one index finds all of a voxel. Channel sections start on a word;
+// 3-byte samples are padded to 4 bytes, so that no sample straddles a word.
 struct PackedOctree {
   std::vector<glm::uvec2> nodes;
   uint32_t brick_bytes = 0;

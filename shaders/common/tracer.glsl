@@ -5,10 +5,11 @@
 // Before including it, the host declares:
 //   SvoTraceParams params;                      the settings of this trace (tracer_params.glsl)
 //   uvec2 svo_node(uint index);                 (children, brick) of a node, SVO_ABSENT for none
-//   uint svo_brick_bytes(uint brick, uint offset);  4 bytes at `offset` in a brick, little-endian
+//   uint svo_brick_bytes(uint brick, uint offset);  the word holding byte `offset` of a brick, shifted
+//                                               right so that this byte is the lowest (never straddles)
 //   uvec4 svo_mask(uint cell);                  the mask table, theta-major, SVO_MASK_BINS^2 cells
 // A brick holds every channel of its (B+1)^3 lattice samples, channel after
-// channel (offsets in params), samples x-fastest.
+// channel (offsets in params), samples x-fastest; a sample of 3 bytes takes 4.
 //
 // Per pixel: one cone through the pixel centre with the pixel's footprint
 // (a disk of the pixel's area) or the thin lens's. Cone elements are as long
@@ -94,11 +95,11 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   if ((parts & SVO_PART_NORMAL) == 0u) return v;
   v.n = vec3(0.0f, 0.0f, 1.0f);
   if (params.offsets_a.y != SVO_ABSENT) {
-    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 3u) & 0xFFFFFFu);
+    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
   }
   if ((parts & SVO_PART_SHADING) == 0u) return v;
   if (params.offsets_b.x != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 3u);
+    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
     float sx = svo_decode_u8_log_slope(b & 255u);
     float sy = svo_decode_u8_log_slope((b >> 8u) & 255u);
     float rho = svo_decode_s8((b >> 16u) & 255u);
@@ -111,11 +112,11 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   }
   v.abar = vec3(params.constant_colour);
   if (params.offsets_b.y != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 3u);
+    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
     v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
   }
   if (params.offsets_b.z != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 3u);
+    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
     v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
   }
   return v;

@@ -48,11 +48,7 @@ uint svo_pool_word(uint slot, uint i) {
 uint svo_brick_bytes(uint brick, uint offset) {
   uint slot = brick / params.pool.y;
   uint at = (brick - slot * params.pool.y) * params.pool.x + offset;
-  uint word = at >> 2u;
-  uint shift = (at & 3u) * 8u;
-  uint lo = svo_pool_word(slot, word);
-  if (shift == 0u) return lo;
-  return (lo >> shift) | (svo_pool_word(slot, word + 1u) << (32u - shift));
+  return svo_pool_word(slot, at >> 2u) >> ((at & 3u) * 8u);
 }
 
 #include "common/tracer.glsl"
