@@ -21,8 +21,10 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev    # mesh -> narrow-band signed distance (voxelizer only)
   zlib1g-dev                               # needed by FindOpenVDB.cmake
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
-  libopenimageio-dev                       # textures
+  libopenimageio-dev                       # textures; PNG and EXR output
   libtbb-dev                               # parallel loops
+  libglfw3-dev                             # the window of svo view
+  xvfb xauth                               # xvfb-run: the viewer's tests without a display
   libgtest-dev libgmock-dev                # tests
 )
 

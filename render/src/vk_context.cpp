@@ -30,6 +30,10 @@ const char* result_name(VkResult result) {
     SVO_CASE(VK_ERROR_FRAGMENTED_POOL)
     SVO_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
     SVO_CASE(VK_ERROR_UNKNOWN)
+    SVO_CASE(VK_SUBOPTIMAL_KHR)
+    SVO_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+    SVO_CASE(VK_ERROR_SURFACE_LOST_KHR)
+    SVO_CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
 #undef SVO_CASE
     default:
       return "VK_ERROR_(unlisted)";
@@ -87,7 +91,17 @@ bool has_layer(const char* name) {
                      [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
-VkInstance create_instance(bool validation) {
+bool has_instance_extension(const std::string& name) {
+  uint32_t count = 0;
+  SVO_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
+  std::vector<VkExtensionProperties> extensions(count);
+  SVO_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data()));
+  return std::any_of(extensions.begin(), extensions.end(),
+                     [&](const VkExtensionProperties& e) { return name == e.extensionName; });
+}
+
+// `wanted`: instance extensions asked for by the caller (for presenting).
+VkInstance create_instance(bool validation, const std::vector<std::string>& wanted = {}) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "svo";
   app.applicationVersion = VK_MAKE_VERSION(0, 1, 0);
@@ -102,6 +116,14 @@ VkInstance create_instance(bool validation) {
     }
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  for (const std::string& name : wanted) {
+    if (!has_instance_extension(name)) {
+      throw Error("Vulkan: instance extension " + name + " is not available (the driver cannot present to this display)");
+    }
+    if (std::none_of(extensions.begin(), extensions.end(), [&](const char* e) { return name == e; })) {
+      extensions.push_back(name.c_str());
+    }
   }
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &app;
@@ -145,6 +167,35 @@ int compute_family(VkPhysicalDevice device) {
     if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return int(i);
   }
   return -1;
+}
+
+// Index of the queue family that does compute and presents to `surface`
+// (preferring one that also does graphics), or -1 with the reason in `why`.
+int present_family(VkPhysicalDevice device, VkSurfaceKHR surface, std::string& why) {
+  uint32_t count = 0;
+  SVO_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
+  std::vector<VkExtensionProperties> extensions(count);
+  SVO_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()));
+  if (std::none_of(extensions.begin(), extensions.end(), [](const VkExtensionProperties& e) {
+        return std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+      })) {
+    why = "it has no " VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    return -1;
+  }
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+  int found = -1;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+    VkBool32 supported = VK_FALSE;
+    SVO_VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(device, i, surface, &supported));
+    if (!supported) continue;
+    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) return int(i);
+    if (found < 0) found = int(i);
+  }
+  if (found < 0) why = "no queue family does both compute and present to this window";
+  return found;
 }
 
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
@@ -245,7 +296,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_message(VkDebugUtilsMessageSeverityFl
 }
 
 Context::Context(const ContextOptions& options) {
-  instance_ = create_instance(options.validation);
+  instance_ = create_instance(options.validation, options.instance_extensions);
   try {
     if (options.validation) {
       VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
@@ -260,15 +311,53 @@ Context::Context(const ContextOptions& options) {
       if (!create) throw Error("Vulkan: vkCreateDebugUtilsMessengerEXT is missing although validation is on");
       SVO_VK_CHECK(create(instance_, &info, nullptr, &messenger_));
     }
+    if (options.create_surface) {
+      surface_ = options.create_surface(instance_);
+      if (!surface_) throw Error("Vulkan: no surface to present to");
+    }
     auto devices = physical_devices(instance_);
     std::vector<DeviceInfo> infos;
     for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
-    uint32_t chosen = select_device(infos, options.device);
+    uint32_t chosen = 0;
+    int family = -1;
+    if (!surface_) {
+      chosen = select_device(infos, options.device);
+      family = compute_family(devices[chosen]);
+      if (family < 0) throw Error("Vulkan: device '" + infos[chosen].name + "' has no compute queue");
+    } else {
+      // Only devices that can present are candidates.
+      std::vector<int> families(devices.size());
+      std::vector<std::string> why(devices.size());
+      std::vector<DeviceInfo> able;
+      for (uint32_t i = 0; i < devices.size(); ++i) {
+        families[i] = present_family(devices[i], surface_, why[i]);
+        if (families[i] >= 0) able.push_back(infos[i]);
+      }
+      if (options.device.empty()) {
+        if (able.empty()) {
+          std::string all;
+          for (uint32_t i = 0; i < devices.size(); ++i) all += (i ? "; " : "") + infos[i].name + ": " + why[i];
+          throw Error("Vulkan: no device can present to the window (" + all + ")");
+        }
+        chosen = able[select_device(able, "")].index;
+      } else {
+        chosen = select_device(infos, options.device);
+        if (families[chosen] < 0) {
+          throw Error("Vulkan: device '" + infos[chosen].name + "' cannot present to the window: " + why[chosen]);
+        }
+      }
+      family = families[chosen];
+    }
     physical_ = devices[chosen];
     info_ = infos[chosen];
-    int family = compute_family(physical_);
-    if (family < 0) throw Error("Vulkan: device '" + info_.name + "' has no compute queue");
     queue_family_ = uint32_t(family);
+    {
+      uint32_t count = 0;
+      vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+      std::vector<VkQueueFamilyProperties> queue_families(count);
+      vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, queue_families.data());
+      info_.timestamps = queue_families[queue_family_].timestampValidBits > 0 && info_.timestamp_period_ns > 0;
+    }
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -278,6 +367,11 @@ Context::Context(const ContextOptions& options) {
     VkDeviceCreateInfo device{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     device.queueCreateInfoCount = 1;
     device.pQueueCreateInfos = &queue;
+    const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    if (surface_) {
+      device.enabledExtensionCount = 1;
+      device.ppEnabledExtensionNames = &swapchain;
+    }
     SVO_VK_CHECK(vkCreateDevice(physical_, &device, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 
@@ -302,6 +396,7 @@ void Context::release() {
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
+  if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
@@ -311,6 +406,7 @@ void Context::release() {
   fence_ = VK_NULL_HANDLE;
   pool_ = VK_NULL_HANDLE;
   device_ = VK_NULL_HANDLE;
+  surface_ = VK_NULL_HANDLE;
   messenger_ = VK_NULL_HANDLE;
   instance_ = VK_NULL_HANDLE;
 }

@@ -378,6 +378,7 @@ SVO_FN SvoVisibility svo_visibility(vec3 p, vec3 l, float dist, float r0, float 
 
 struct SvoShade {
   vec3 radiance;
+  vec3 p;                // where the element was shaded (on its mean plane)
   vec3 abar;             // colour seen from the camera (Eq. 17 with the view alone in prefiltered mode)
   vec3 n;                // unit mean normal
   float slope_variance;  // mean of the total per-axis variances
@@ -388,15 +389,35 @@ struct SvoShade {
 // (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
 // sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
 SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
+  vec3 dir = -view;
   SvoShade s;
   s.steps = 0u;
   if (mode != SVO_MODE_NEAREST) {
-    // The shading attributes of the element, interpolated as its geometry was.
+    // The shading attributes where the cone's axis meets the element's mean
+    // plane, so that the elements of one cone that see the same plane shade
+    // the same point: sampled at each element's centre, a narrow specular
+    // lobe would change from element to element and show their boundaries
+    // as bands along the surface's contours.
+    float nl0 = length(m.v.n);
+    float reach = 2.0f * max(m.radius, 0.25f * params.material.z);
+    float nd = nl0 > 0.0f ? dot(m.v.n / nl0, dir) : 0.0f;
+    float along = abs(nd) * reach > abs(m.v.hbar) ? -m.v.hbar / nd : (m.v.hbar * nd > 0.0f ? -reach : reach);
+    vec3 ps = m.p + dir * along;
+    SvoCell lo = m.lo_cell;
+    SvoCell hi = m.hi_cell;
+    if (!svo_cell_holds(lo, ps, lo.depth)) lo = svo_lookup(ps, lo.depth);
+    if (m.blend > 0.0f && !svo_cell_holds(hi, ps, hi.depth)) hi = svo_lookup(ps, hi.depth);
+    if (lo.brick != SVO_ABSENT && (m.blend == 0.0f || hi.brick != SVO_ABSENT)) {
+      m.p = ps;
+      m.lo_cell = lo;
+      m.hi_cell = hi;
+    }
     SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL);
     if (m.blend > 0.0f) {
       a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend),
                          svo_sample_trilinear(m.hi_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL), m.blend);
     }
+    m.v.n = a.n;
     m.v.cov = a.cov;
     m.v.abar = a.abar;
     m.v.a_s = a.a_s;
@@ -448,6 +469,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     s.radiance += e * rho * (ndl * visible);
   }
   s.abar = a_view;
+  s.p = m.p;
   s.n = n;
   s.slope_variance = 0.5f * (total.x + total.y);
   return s;
@@ -492,7 +514,7 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
     SvoShade s = svo_shade(m, -d, mode);
     steps += s.steps;
     radiance += weight * s.radiance;
-    g0 += weight * vec4(m.depth, m.p);
+    g0 += weight * vec4(dot(s.p - cone.o, d), s.p);
     g1 += weight * vec4(s.n, s.slope_variance);
     g2 += weight * vec4(s.abar, 1.0f);
     coverage += weight;

@@ -1,6 +1,7 @@
 // Vulkan instance, device selection and a compute queue: the ground every
-// pass of the renderer stands on. Headless (no surface); lavapipe is the
-// device of last resort so that it runs on any machine.
+// pass of the renderer stands on. Headless by default; lavapipe is the device
+// of last resort so that it runs on any machine. With a surface (a window,
+// ContextOptions::create_surface) the queue can also present.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -52,6 +53,19 @@ struct ContextOptions {
   // Enable VK_LAYER_KHRONOS_validation; every message it sends is recorded
   // (validation_messages()) so that callers can fail on any of them.
   bool validation = false;
+
+  // Presenting to a window (leave both empty for headless work).
+  // Instance extensions to enable besides our own, e.g. the ones
+  // glfwGetRequiredInstanceExtensions names (VK_KHR_surface and a platform one).
+  std::vector<std::string> instance_extensions;
+  // Called once with the new instance, before the device is chosen; returns
+  // the surface to present to (or throws). The Context owns the surface from
+  // then on and destroys it before the instance. When set, only a device with
+  // a queue family that does both compute and present to this surface, and
+  // with VK_KHR_swapchain, is acceptable: the default choice skips the others,
+  // an explicit `device` that cannot present is an Error. The device is then
+  // created with VK_KHR_swapchain enabled.
+  std::function<VkSurfaceKHR(VkInstance)> create_surface;
 };
 
 // Lists the Vulkan devices of this machine. Throws Error when Vulkan has no
@@ -73,6 +87,13 @@ class Context {
   const DeviceInfo& info() const { return info_; }
   VkDevice device() const { return device_; }
   VkPhysicalDevice physical_device() const { return physical_; }
+  VkInstance instance() const { return instance_; }
+  // The one queue (compute, and present when there is a surface) and its family.
+  // Callers that submit to it themselves must do so from the thread that uses the Context.
+  VkQueue queue() const { return queue_; }
+  uint32_t queue_family() const { return queue_family_; }
+  // The surface made by ContextOptions::create_surface; VK_NULL_HANDLE when headless.
+  VkSurfaceKHR surface() const { return surface_; }
 
   // Memory type index with the requested properties among `type_bits`; throws Error if none.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
@@ -92,6 +113,7 @@ class Context {
 
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

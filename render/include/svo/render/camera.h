@@ -1,0 +1,74 @@
+// Cameras and lights for the renderer's callers: view presets from an
+// octree's bounds, and the command-line and JSON forms of cameras and lights.
+// Every parser here takes untrusted text and reports a bad value as one line
+// (std::invalid_argument) that names the value and what was expected.
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "svo/octree/octree.h"
+#include "svo/render/renderer.h"
+
+namespace svo::render {
+
+// Names accepted by view_preset: "far", "mid", "close".
+std::vector<std::string> view_preset_names();
+
+// A camera placed from the octree alone (fov 40 degrees, world +y up):
+//   far   the whole domain cube [origin, origin + size]^3 in frame, seen from
+//         a 3/4 elevated direction (azimuth 35, elevation 30 degrees);
+//   mid   the same direction, 3 times closer, aimed at the centre of the
+//         surface (the bounds of the finest bricks);
+//   close aimed at a surface point found by marching the mid view's rays
+//         through the finest level's signed distance hbar (where it changes
+//         sign), from max(8 finest voxels, 2% of the size) away, along a
+//         direction 60 degrees from the surface normal (less when that
+//         direction runs into the surface).
+// `aspect` (width / height) keeps the far view's cube inside the narrower
+// field of view.
+// @throw std::invalid_argument naming `name` and the valid names for an unknown preset.
+// @throw std::runtime_error when the octree has no surface (no finest brick),
+//        or, for close, when no ray of the mid view meets the surface.
+Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect = 1.0f);
+
+// Checks a camera as parse_camera and load_camera_json do: finite numbers,
+// eye != target, up not parallel to the view direction, fov in (0, 180)
+// degrees, aperture >= 0 and, with an aperture, focus > 0.
+// @throw std::invalid_argument "<where>: <what is wrong>".
+void validate_camera(const Camera& camera, const std::string& where);
+
+// "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov": eye, target, up, vertical field of view
+// in degrees (pinhole).
+// @throw std::invalid_argument "--camera '<text>': <what is wrong>" (count of
+//        numbers, a value that is not a finite number, and validate_camera's checks).
+Camera parse_camera(std::string_view text);
+
+// A camera file: {"eye": [x, y, z], "target": [x, y, z], "up": [x, y, z],
+// "fov": degrees, "aperture": lens radius (optional, default 0), "focus":
+// focus distance (optional; required when aperture > 0)}. Unknown keys are
+// ignored.
+// @throw std::runtime_error "<path>: <what is wrong>" for a file that cannot
+//        be read or is not JSON; std::invalid_argument "<path>: <what is
+//        wrong>" for a missing key, a wrong type and validate_camera's checks.
+Camera load_camera_json(const std::string& path);
+
+// Writes `camera` in the form load_camera_json reads, atomically (temporary
+// file in the same directory, fsync, rename).
+// @throw std::runtime_error "<path>: cannot write: <reason>".
+void save_camera_json(const std::string& path, const Camera& camera);
+
+// A light from its command-line form:
+//   dir:X,Y,Z[,IRRADIANCE[,ANGLE]]      directional, (X, Y, Z) towards the light,
+//                                       irradiance at normal incidence (default 3),
+//                                       angular radius in radians (default 0.02)
+//   point:X,Y,Z[,INTENSITY[,RADIUS]]    point light at (X, Y, Z), irradiance =
+//                                       intensity / distance^2 (default: 3 at
+//                                       `scene_centre`), radius in scene units
+//                                       (default 1% of the distance to `scene_centre`)
+// @throw std::invalid_argument "--light '<text>': <what is wrong>".
+Light parse_light(std::string_view text, glm::vec3 scene_centre);
+
+}  // namespace svo::render

@@ -1,0 +1,82 @@
+// Frames to image files and back, through OpenImageIO. Every write goes to a
+// temporary file in the target's directory, is flushed to disk and renamed
+// over the target: a crash or a failed write never leaves a half-written
+// file under the final name nor destroys the file that was there.
+//
+// Colour files, chosen by the extension (case-insensitive):
+//   .png  8-bit RGB, sRGB transfer, no alpha. Frame::colour's RGB already
+//         holds the background in the bits no element covered (the tracer
+//         composites), so the PNG is the finished picture; linear radiance
+//         is clamped to [0, 1] before the sRGB transfer.
+//   .exr  32-bit float R, G, B, A, linear radiance as rendered (no clamp);
+//         A = coverage. RGB includes the background, so A records coverage
+//         and is not an associated (premultiplied) alpha.
+// G-buffer files are .exr only: one 32-bit float channel per field of
+// GBufferTexel, named depth, P.x, P.y, P.z, N.x, N.y, N.z, slope_variance,
+// abar.R, abar.G, abar.B, coverage (kGBufferChannels).
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "svo/render/renderer.h"
+
+namespace svo::render {
+
+// Any problem with an image file: one line that starts with the path.
+class ImageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ImageFormat { Png, Exr };
+
+// The format of `path` from its extension.
+// @throw ImageError "<path>: unsupported image extension '<ext>' (use .png or .exr)".
+ImageFormat image_format(const std::string& path);
+
+// Refuses an output path before any work is done: its directory must exist
+// and be writable, and `path` must not be a directory.
+// @throw ImageError "<path>: directory <dir> does not exist" (or "is not a
+//        directory", "is not writable"), "<path>: is a directory".
+void check_writable_output(const std::string& path);
+
+// Writes frame.colour as PNG or EXR (see above), atomically.
+// @throw ImageError for an unsupported extension, a frame whose colour does
+//        not hold width * height pixels, or any failure to write.
+void write_colour(const std::string& path, const Frame& frame);
+
+constexpr std::array<const char*, 12> kGBufferChannels{
+    "depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "slope_variance", "abar.R", "abar.G", "abar.B", "coverage"};
+
+// Writes frame.gbuffer as one multi-channel float EXR, atomically.
+// @throw ImageError when `path` is not .exr, the frame has no G-buffer of
+//        width * height texels, or the write fails.
+void write_gbuffer(const std::string& path, const Frame& frame);
+
+// An image in memory: float samples, channel-interleaved, row-major, top row first.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::string> channels;  // names as stored in the file
+  std::vector<float> pixels;          // width * height * channels.size()
+
+  // Index of the channel called `name`, or -1.
+  int channel(const std::string& name) const;
+  float at(int x, int y, int c) const {
+    return pixels[(size_t(y) * size_t(width) + size_t(x)) * channels.size() + size_t(c)];
+  }
+};
+
+// Reads any image OpenImageIO reads, as float. 8- and 16-bit files in the
+// sRGB colour space (PNG, as written here) are converted to linear values,
+// so that a PNG and an EXR of the same frame compare directly.
+// @throw ImageError "<path>: <reason>" (cannot open, not an image, ...).
+Image read_image(const std::string& path);
+
+// The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
+float linear_to_srgb(float linear);
+float srgb_to_linear(float encoded);
+
+}  // namespace svo::render

@@ -1,0 +1,53 @@
+#include "atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+namespace svo::render::detail {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& step, int err) {
+  throw std::runtime_error(path + ": cannot write: " + step + ": " + std::strerror(err));
+}
+
+// Removes the temporary on scope exit unless it was renamed.
+struct Temporary {
+  std::string name;
+  bool committed = false;
+  ~Temporary() {
+    if (!committed) ::unlink(name.c_str());
+  }
+};
+
+}  // namespace
+
+void write_atomically(const std::string& path, const std::function<void(const std::string& temporary)>& write) {
+  static std::atomic<unsigned> counter{0};
+  Temporary tmp{path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++)};
+  write(tmp.name);
+  int fd = ::open(tmp.name.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail(path, "opening " + tmp.name, errno);
+  if (::fsync(fd) != 0) {
+    int err = errno;
+    ::close(fd);
+    fail(path, "fsync " + tmp.name, err);
+  }
+  ::close(fd);
+  if (::rename(tmp.name.c_str(), path.c_str()) != 0) fail(path, "renaming " + tmp.name, errno);
+  tmp.committed = true;
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+}  // namespace svo::render::detail

@@ -1,0 +1,419 @@
+#include "svo/render/camera.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/vec2.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "atomic_file.h"
+#include "svo/octree/sampler.h"
+
+namespace svo::render {
+
+namespace {
+
+constexpr float kPresetFov = 40.0f;
+constexpr float kAzimuth = 35.0f, kElevation = 30.0f;  // degrees: the 3/4 elevated view of far and mid
+constexpr float kMidCloser = 3.0f;
+constexpr float kCloseVoxels = 8.0f, kCloseFraction = 0.02f;
+const glm::vec3 kWorldUp(0, 1, 0);
+
+std::string vec_text(glm::vec3 v) {
+  std::ostringstream s;
+  s << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return s.str();
+}
+
+// Splits on commas; each piece must be a finite number (spaces around it allowed).
+// Returns the numbers, or throws "<where>: <problem>".
+std::vector<float> parse_numbers(std::string_view text, const std::string& where) {
+  std::vector<float> out;
+  size_t start = 0;
+  for (int index = 1;; ++index) {
+    size_t comma = text.find(',', start);
+    std::string_view piece = text.substr(start, comma == std::string_view::npos ? text.npos : comma - start);
+    while (!piece.empty() && std::isspace(static_cast<unsigned char>(piece.front()))) piece.remove_prefix(1);
+    while (!piece.empty() && std::isspace(static_cast<unsigned char>(piece.back()))) piece.remove_suffix(1);
+    std::string_view digits = piece;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    float v = 0;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    if (digits.empty() || ec != std::errc() || end != digits.data() + digits.size() || !std::isfinite(v)) {
+      throw std::invalid_argument(where + ": value " + std::to_string(index) + " '" + std::string(piece) +
+                                  "' is not a finite number");
+    }
+    out.push_back(v);
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// ---- Surface search through the finest level's hbar.
+
+struct SurfaceHit {
+  glm::vec3 point;
+  glm::vec3 normal;  // unit, facing the ray's origin
+};
+
+class DistanceSampler {
+ public:
+  explicit DistanceSampler(const octree::Octree& tree)
+      : tree_(tree), depth_(tree.depth_count - 1), voxel_(tree.voxel_size(depth_)) {}
+
+  float voxel() const { return voxel_; }
+
+  // Trilinear hbar and nbar at p; nullopt unless all 8 lattice corners lie in bricks.
+  std::optional<std::pair<float, glm::vec3>> at(glm::vec3 p) const {
+    glm::vec3 q = (p - tree_.origin) / voxel_;
+    glm::vec3 fl = glm::floor(q);
+    glm::ivec3 base(fl);
+    glm::vec3 f = q - fl;
+    float h = 0;
+    glm::vec3 n(0);
+    for (int i = 0; i < 8; ++i) {
+      glm::ivec3 o(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+      auto v = octree::lattice_voxel(tree_, depth_, base + o);
+      if (!v) return std::nullopt;
+      float w = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
+      h += w * v->hbar;
+      n += w * v->nbar;
+    }
+    return std::make_pair(h, n);
+  }
+
+  // First crossing of hbar from positive to negative along eye + t dir
+  // (dir unit) inside the domain cube, in half-voxel steps, refined by bisection.
+  std::optional<SurfaceHit> march(glm::vec3 eye, glm::vec3 dir) const {
+    glm::vec3 lo = tree_.origin, hi = tree_.origin + glm::vec3(tree_.size);
+    float t0 = 0, t1 = 1e30f;
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(dir[a]) < 1e-12f) {
+        if (eye[a] < lo[a] || eye[a] > hi[a]) return std::nullopt;
+        continue;
+      }
+      float ta = (lo[a] - eye[a]) / dir[a], tb = (hi[a] - eye[a]) / dir[a];
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    }
+    if (t0 >= t1) return std::nullopt;
+    const float step = 0.5f * voxel_;
+    std::optional<float> previous;  // hbar at t - step, when known
+    const int64_t steps = int64_t((t1 - t0) / step) + 1;
+    for (int64_t i = 0; i <= steps; ++i) {
+      const float t = t0 + float(i) * step;
+      auto s = at(eye + t * dir);
+      if (s && previous && *previous > 0 && s->first <= 0) {
+        float a = t - step, b = t;
+        for (int k = 0; k < 24; ++k) {
+          float m = 0.5f * (a + b);
+          auto sm = at(eye + m * dir);
+          if (!sm) break;
+          (sm->first > 0 ? a : b) = m;
+        }
+        glm::vec3 p = eye + 0.5f * (a + b) * dir;
+        auto sp = at(p);
+        glm::vec3 n = sp && glm::length(sp->second) > 1e-6f ? glm::normalize(sp->second) : -dir;
+        if (glm::dot(n, dir) > 0) n = -n;
+        return SurfaceHit{p, n};
+      }
+      previous = s ? std::optional<float>(s->first) : std::nullopt;
+    }
+    return std::nullopt;
+  }
+
+  // Whether the segment point + t dir, 2 voxels <= t <= length, keeps its
+  // distance from the surface: hbar >= rise * t wherever the finest level
+  // stores it (rise: half the cosine between dir and the normal at point).
+  bool clear(glm::vec3 point, glm::vec3 dir, float length, float rise) const {
+    for (int i = 4; float(i) * 0.5f * voxel_ <= length; ++i) {
+      const float t = float(i) * 0.5f * voxel_;
+      auto s = at(point + t * dir);
+      if (s && s->first < rise * t) return false;
+    }
+    return true;
+  }
+
+ private:
+  const octree::Octree& tree_;
+  uint32_t depth_;
+  float voxel_;
+};
+
+// Bounds of the finest level's bricks (where the surface is); nullopt without any.
+std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octree& tree) {
+  if (tree.nodes.empty()) return std::nullopt;
+  const uint32_t finest = tree.depth_count - 1;
+  const float brick = tree.size / float(1u << finest);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  bool any = false;
+  struct Item {
+    uint32_t node, depth;
+    glm::ivec3 coords;
+  };
+  std::vector<Item> stack{{0, 0, glm::ivec3(0)}};
+  while (!stack.empty()) {
+    Item item = stack.back();
+    stack.pop_back();
+    if (item.node >= tree.nodes.size()) continue;
+    const octree::Node& node = tree.nodes[item.node];
+    if (item.depth == finest) {
+      if (node.brick == octree::kNone) continue;
+      glm::vec3 a = tree.origin + glm::vec3(item.coords) * brick;
+      lo = glm::min(lo, a), hi = glm::max(hi, a + glm::vec3(brick));
+      any = true;
+      continue;
+    }
+    if (node.children == octree::kNone) continue;
+    for (uint32_t i = 0; i < 8; ++i) {
+      glm::ivec3 o(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+      stack.push_back({node.children + i, item.depth + 1, item.coords * 2 + o});
+    }
+  }
+  if (!any) return std::nullopt;
+  return std::make_pair(lo, hi);
+}
+
+glm::vec3 preset_direction() {
+  float az = glm::radians(kAzimuth), el = glm::radians(kElevation);
+  return glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+}
+
+// An up vector not parallel to `forward`.
+glm::vec3 up_for(glm::vec3 forward) {
+  if (std::abs(glm::dot(glm::normalize(forward), kWorldUp)) < 0.98f) return kWorldUp;
+  return glm::vec3(0, 0, -1);
+}
+
+Camera far_view(const octree::Octree& tree, float aspect) {
+  Camera c;
+  c.fov_deg = kPresetFov;
+  c.target = tree.origin + glm::vec3(0.5f * tree.size);
+  float half_v = glm::radians(0.5f * kPresetFov);
+  float half_h = std::atan(std::tan(half_v) * aspect);
+  float radius = 0.5f * std::sqrt(3.0f) * tree.size;  // the cube's bounding sphere
+  c.eye = c.target + preset_direction() * (radius / std::sin(std::min(half_v, half_h)));
+  c.up = kWorldUp;
+  return c;
+}
+
+Camera mid_view(const octree::Octree& tree, float aspect) {
+  auto bounds = surface_bounds(tree);
+  if (!bounds) throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
+  Camera far = far_view(tree, aspect);
+  Camera c = far;
+  c.target = 0.5f * (bounds->first + bounds->second);
+  c.eye = c.target + preset_direction() * (glm::length(far.eye - far.target) / kMidCloser);
+  return c;
+}
+
+Camera close_view(const octree::Octree& tree, float aspect) {
+  Camera mid = mid_view(tree, aspect);
+  DistanceSampler sampler(tree);
+  glm::vec3 forward = glm::normalize(mid.target - mid.eye);
+  glm::vec3 right = glm::normalize(glm::cross(forward, mid.up));
+  glm::vec3 up = glm::cross(right, forward);
+  float tv = std::tan(glm::radians(0.5f * mid.fov_deg)), th = tv * aspect;
+  // The centre ray first, then rings of rays further out in the mid view's image.
+  std::vector<glm::vec2> offsets{{0, 0}};
+  for (int ring = 1; ring <= 6; ++ring) {
+    int count = 8 * ring;
+    for (int k = 0; k < count; ++k) {
+      float angle = 2 * float(M_PI) * float(k) / float(count);
+      offsets.push_back(float(ring) / 6.0f * 0.95f * glm::vec2(std::cos(angle), std::sin(angle)));
+    }
+  }
+  std::optional<SurfaceHit> hit;
+  glm::vec3 ray;
+  for (glm::vec2 o : offsets) {
+    ray = glm::normalize(forward + o.x * th * right + o.y * tv * up);
+    if ((hit = sampler.march(mid.eye, ray))) break;
+  }
+  if (!hit) throw std::runtime_error("view close: no ray of the mid view meets the surface");
+
+  const float distance = std::max(kCloseVoxels * sampler.voxel(), kCloseFraction * tree.size);
+  glm::vec3 n = hit->normal, towards_viewer = -ray;
+  glm::vec3 tangent = towards_viewer - n * glm::dot(n, towards_viewer);
+  if (glm::length(tangent) < 1e-4f) {  // looking along the normal: any tangent
+    tangent = glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0));
+  }
+  tangent = glm::normalize(tangent);
+  Camera c;
+  c.fov_deg = kPresetFov;
+  c.target = hit->point;
+  for (float degrees : {60.0f, 45.0f, 30.0f, 15.0f, 0.0f}) {
+    float a = glm::radians(degrees);
+    glm::vec3 dir = n * std::cos(a) + tangent * std::sin(a);
+    c.eye = hit->point + distance * dir;
+    if (sampler.clear(hit->point, dir, distance, 0.5f * std::cos(a))) break;
+  }
+  c.up = up_for(c.target - c.eye);
+  return c;
+}
+
+}  // namespace
+
+std::vector<std::string> view_preset_names() { return {"far", "mid", "close"}; }
+
+Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect) {
+  if (!(aspect > 0) || !std::isfinite(aspect)) throw std::invalid_argument("view preset: aspect must be positive");
+  if (tree.depth_count == 0 || !(tree.size > 0))
+    throw std::invalid_argument("view preset: octree without levels or size");
+  if (name == "far") return far_view(tree, aspect);
+  if (name == "mid") return mid_view(tree, aspect);
+  if (name == "close") return close_view(tree, aspect);
+  throw std::invalid_argument("unknown view '" + std::string(name) + "' (views: far, mid, close)");
+}
+
+void validate_camera(const Camera& c, const std::string& where) {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(where + ": " + why); };
+  if (!finite(c.eye) || !finite(c.target) || !finite(c.up) || !std::isfinite(c.fov_deg) || !std::isfinite(c.aperture) ||
+      !std::isfinite(c.focus)) {
+    fail("values must be finite numbers");
+  }
+  glm::vec3 view = c.target - c.eye;
+  float length = glm::length(view);
+  if (!(length > 1e-6f * std::max(1.0f, glm::length(c.eye)))) {
+    fail("eye and target are the same point " + vec_text(c.eye));
+  }
+  if (!(glm::length(c.up) > 0)) fail("up is the zero vector");
+  if (glm::length(glm::cross(view / length, glm::normalize(c.up))) < 1e-3f) {
+    fail("up " + vec_text(c.up) + " is parallel to the view direction " + vec_text(view / length));
+  }
+  if (!(c.fov_deg > 0 && c.fov_deg < 180)) {
+    std::ostringstream s;
+    s << "fov " << c.fov_deg << " is outside (0, 180) degrees";
+    fail(s.str());
+  }
+  if (c.aperture < 0) fail("aperture must be >= 0");
+  if (c.aperture > 0 && !(c.focus > 0)) fail("focus must be > 0 with an aperture");
+}
+
+Camera parse_camera(std::string_view text) {
+  const std::string where = "--camera '" + std::string(text) + "'";
+  std::vector<float> v = parse_numbers(text, where);
+  if (v.size() != 10) {
+    throw std::invalid_argument(where + ": expected 10 numbers ex,ey,ez,tx,ty,tz,ux,uy,uz,fov, got " +
+                                std::to_string(v.size()));
+  }
+  Camera c;
+  c.eye = {v[0], v[1], v[2]};
+  c.target = {v[3], v[4], v[5]};
+  c.up = {v[6], v[7], v[8]};
+  c.fov_deg = v[9];
+  validate_camera(c, where);
+  return c;
+}
+
+Camera load_camera_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open camera file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    std::string what = e.what();
+    if (auto close = what.find("] "); close != std::string::npos) what = what.substr(close + 2);
+    throw std::runtime_error(path + ": not a JSON camera file: " + what);
+  }
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(path + ": " + why); };
+  if (!j.is_object()) fail("expected a JSON object with eye, target, up and fov");
+  auto vec3 = [&](const char* key) {
+    if (!j.contains(key)) fail(std::string("missing key \"") + key + "\"");
+    const auto& a = j[key];
+    if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number()) {
+      fail(std::string("\"") + key + "\" must be an array of 3 numbers");
+    }
+    return glm::vec3(a[0].get<float>(), a[1].get<float>(), a[2].get<float>());
+  };
+  auto number = [&](const char* key, std::optional<float> fallback) {
+    if (!j.contains(key)) {
+      if (!fallback) fail(std::string("missing key \"") + key + "\"");
+      return *fallback;
+    }
+    if (!j[key].is_number()) fail(std::string("\"") + key + "\" must be a number");
+    return j[key].get<float>();
+  };
+  Camera c;
+  c.eye = vec3("eye");
+  c.target = vec3("target");
+  c.up = vec3("up");
+  c.fov_deg = number("fov", std::nullopt);
+  c.aperture = number("aperture", 0.0f);
+  c.focus = number("focus", 0.0f);
+  validate_camera(c, path);
+  return c;
+}
+
+void save_camera_json(const std::string& path, const Camera& c) {
+  // Each float as the shortest decimal that reads back as the same float.
+  auto num = [](float v) {
+    char text[32];
+    auto end = std::to_chars(text, text + sizeof text, v).ptr;
+    return std::strtod(std::string(text, end).c_str(), nullptr);
+  };
+  auto arr = [&](glm::vec3 v) { return nlohmann::json::array({num(v.x), num(v.y), num(v.z)}); };
+  nlohmann::json j{{"eye", arr(c.eye)}, {"target", arr(c.target)}, {"up", arr(c.up)}, {"fov", num(c.fov_deg)}};
+  if (c.aperture > 0) j["aperture"] = num(c.aperture), j["focus"] = num(c.focus);
+  std::string text = j.dump(2) + "\n";
+  detail::write_atomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot write: creating " + tmp + ": " + std::strerror(errno));
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error(path + ": cannot write: writing " + tmp);
+  });
+}
+
+Light parse_light(std::string_view text, glm::vec3 scene_centre) {
+  const std::string where = "--light '" + std::string(text) + "'";
+  Light light;
+  std::string_view rest;
+  if (text.starts_with("dir:")) {
+    light.point = false;
+    rest = text.substr(4);
+  } else if (text.starts_with("point:")) {
+    light.point = true;
+    rest = text.substr(6);
+  } else {
+    throw std::invalid_argument(where +
+                                ": expected dir:X,Y,Z[,IRRADIANCE[,ANGLE]] or point:X,Y,Z[,INTENSITY[,RADIUS]]");
+  }
+  std::vector<float> v = parse_numbers(rest, where);
+  if (v.size() < 3 || v.size() > 5) {
+    throw std::invalid_argument(where + ": expected 3 to 5 numbers after '" +
+                                std::string(light.point ? "point:" : "dir:") + "', got " + std::to_string(v.size()));
+  }
+  light.vector = {v[0], v[1], v[2]};
+  if (!light.point && !(glm::length(light.vector) > 0)) throw std::invalid_argument(where + ": direction is zero");
+  float distance = glm::length(light.vector - scene_centre);
+  float strength = light.point ? 3.0f * distance * distance : 3.0f;
+  if (v.size() >= 4) {
+    if (v[3] < 0) throw std::invalid_argument(where + ": intensity must be >= 0");
+    strength = v[3];
+  }
+  light.radiance = glm::vec3(strength);
+  light.size = light.point ? 0.01f * distance : 0.02f;
+  if (v.size() == 5) {
+    if (v[4] < 0) throw std::invalid_argument(where + ": size must be >= 0");
+    if (!light.point && v[4] >= 0.5f * float(M_PI)) throw std::invalid_argument(where + ": angle must be below pi/2");
+    light.size = v[4];
+  }
+  return light;
+}
+
+}  // namespace svo::render

@@ -1,0 +1,176 @@
+#include "svo/render/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+#include "atomic_file.h"
+
+namespace svo::render {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// OpenImageIO's messages may span lines: one line for the user.
+std::string one_line(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  std::replace(text.begin(), text.end(), '\n', ';');
+  return text.empty() ? "unknown OpenImageIO error" : text;
+}
+
+std::string extension_of(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+// Writes `spec` and `data` (of `type`) to `path` through a temporary file in
+// the format `format_name` ("png", "openexr").
+void write_file(const std::string& path, const char* format_name, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                const void* data) {
+  try {
+    detail::write_atomically(path, [&](const std::string& tmp) {
+      auto out = OIIO::ImageOutput::create(format_name);
+      if (!out) throw ImageError(path + ": cannot write: " + one_line(OIIO::geterror()));
+      if (!out->open(tmp, spec)) throw ImageError(path + ": cannot write: " + one_line(out->geterror()));
+      bool ok = out->write_image(type, data);
+      std::string error = ok ? "" : one_line(out->geterror());
+      if (!out->close() && ok) ok = false, error = one_line(out->geterror());
+      if (!ok) throw ImageError(path + ": cannot write: " + error);
+    });
+  } catch (const ImageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw ImageError(e.what());
+  }
+}
+
+void check_size(const std::string& path, const Frame& frame, size_t count, const char* what) {
+  if (frame.width == 0 || frame.height == 0 || count != size_t(frame.width) * frame.height) {
+    throw ImageError(path + ": cannot write: the frame's " + what + " holds " + std::to_string(count) +
+                     " pixels, not " + std::to_string(frame.width) + " x " + std::to_string(frame.height));
+  }
+}
+
+}  // namespace
+
+float linear_to_srgb(float x) {
+  if (!(x > 0)) return 0;
+  if (x >= 1) return 1;
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float s) {
+  if (!(s > 0)) return 0;
+  if (s >= 1) return 1;
+  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
+
+ImageFormat image_format(const std::string& path) {
+  std::string ext = extension_of(path);
+  if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".exr") return ImageFormat::Exr;
+  throw ImageError(path + ": unsupported image extension '" + ext + "' (use .png or .exr)");
+}
+
+void check_writable_output(const std::string& path) {
+  if (path.empty()) throw ImageError("output path is empty");
+  std::error_code ec;
+  fs::path target = fs::absolute(path, ec);
+  if (ec) throw ImageError(path + ": " + ec.message());
+  if (fs::is_directory(target, ec)) throw ImageError(path + ": is a directory");
+  fs::path dir = target.parent_path();
+  fs::file_status status = fs::status(dir, ec);
+  if (!fs::exists(status)) throw ImageError(path + ": directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(status)) throw ImageError(path + ": " + dir.string() + " is not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw ImageError(path + ": directory " + dir.string() + " is not writable");
+  }
+}
+
+void write_colour(const std::string& path, const Frame& frame) {
+  ImageFormat format = image_format(path);
+  check_size(path, frame, frame.colour.size(), "colour");
+  const size_t pixels = size_t(frame.width) * frame.height;
+  if (format == ImageFormat::Png) {
+    std::vector<uint8_t> bytes(pixels * 3);
+    for (size_t i = 0; i < pixels; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        float v = frame.colour[i][c];
+        bytes[3 * i + size_t(c)] = uint8_t(std::lround(linear_to_srgb(std::isnan(v) ? 0.0f : v) * 255.0f));
+      }
+    }
+    OIIO::ImageSpec spec(int(frame.width), int(frame.height), 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    spec.attribute("Software", "svo");
+    write_file(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  } else {
+    OIIO::ImageSpec spec(int(frame.width), int(frame.height), 4, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A"};
+    spec.alpha_channel = 3;
+    spec.attribute("oiio:ColorSpace", "Linear");
+    spec.attribute("compression", "zip");
+    spec.attribute("Software", "svo");
+    write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, frame.colour.data());
+  }
+}
+
+void write_gbuffer(const std::string& path, const Frame& frame) {
+  if (image_format(path) != ImageFormat::Exr) {
+    throw ImageError(path + ": the G-buffer is written as OpenEXR only (use .exr)");
+  }
+  check_size(path, frame, frame.gbuffer.size(), "G-buffer");
+  const size_t pixels = size_t(frame.width) * frame.height, n = kGBufferChannels.size();
+  std::vector<float> data(pixels * n);
+  for (size_t i = 0; i < pixels; ++i) {
+    const GBufferTexel& t = frame.gbuffer[i];
+    const float values[] = {t.depth,    t.position.x,     t.position.y, t.position.z, t.normal.x, t.normal.y,
+                            t.normal.z, t.slope_variance, t.abar.x,     t.abar.y,     t.abar.z,   t.coverage};
+    static_assert(std::size(values) == kGBufferChannels.size());
+    std::copy(std::begin(values), std::end(values), data.begin() + std::ptrdiff_t(i * n));
+  }
+  OIIO::ImageSpec spec(int(frame.width), int(frame.height), int(n), OIIO::TypeDesc::FLOAT);
+  spec.channelnames.assign(kGBufferChannels.begin(), kGBufferChannels.end());
+  spec.alpha_channel = -1;
+  spec.attribute("compression", "zip");
+  spec.attribute("Software", "svo");
+  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
+}
+
+int Image::channel(const std::string& name) const {
+  auto it = std::find(channels.begin(), channels.end(), name);
+  return it == channels.end() ? -1 : int(it - channels.begin());
+}
+
+Image read_image(const std::string& path) {
+  if (!fs::exists(path)) throw ImageError(path + ": no such file");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw ImageError(path + ": cannot read: " + one_line(OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
+    throw ImageError(path + ": not a 2D image");
+  }
+  Image image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.channelnames;
+  image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+    throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
+  }
+  const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  if (integer && spec.get_string_attribute("oiio:ColorSpace") == "sRGB") {
+    const size_t n = size_t(spec.nchannels);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+      if (int(i % n) != spec.alpha_channel) image.pixels[i] = srgb_to_linear(image.pixels[i]);
+    }
+  }
+  return image;
+}
+
+}  // namespace svo::render
