@@ -7,6 +7,7 @@
 
 #include "svo/render/renderer.h"
 #include "svo/render/vk_compute.h"
+#include "display.comp.spv.h"
 #include "trace.comp.spv.h"
 #include "trace_setup.h"
 
@@ -20,105 +21,169 @@ constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-}  // namespace
-
-struct GpuRenderer::Impl {
-  vk::Context& context;
-  const octree::Octree& tree;
-  PackedOctree packed;
-  uint32_t bricks_per_slot = 1;
-  std::optional<vk::ComputeKernel> kernel;  // created once the number of pool buffers is known
-  vk::Buffer params;
-  vk::Buffer nodes;
-  vk::Buffer masks;
-  std::vector<vk::Buffer> pools;
-  std::optional<vk::Buffer> colour, gbuffer, steps;
-  size_t pool_bytes = 0;
-
-  Impl(vk::Context& c, const octree::Octree& t, uint64_t max_buffer_bytes)
-      : context(c),
-        tree(t),
-        packed(pack_octree(t)),
-        params(c, sizeof(TraceParams)),
-        nodes(c, std::max<size_t>(8, packed.nodes.size() * sizeof(glm::uvec2))),
-        masks(c, tracer_mask_table().masks.size() * sizeof(Mask)) {
-    std::memcpy(nodes.data(), packed.nodes.data(), packed.nodes.size() * sizeof(glm::uvec2));
-    std::memcpy(masks.data(), tracer_mask_table().masks.data(), masks.size());
-    // Whole bricks per storage buffer, plus one word so that no buffer is
-    // empty.
+// The cone tracer as the first pass: writes "colour", "gbuffer", "steps".
+class TracePass : public Pass {
+ public:
+  TracePass(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes)
+      : context_(context),
+        tree_(tree),
+        packed_(pack_octree(tree)),
+        params_(context, sizeof(TraceParams)),
+        nodes_(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2))),
+        masks_(context, tracer_mask_table().masks.size() * sizeof(Mask)) {
+    std::memcpy(nodes_.data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
+    std::memcpy(masks_.data(), tracer_mask_table().masks.data(), masks_.size());
+    // Whole bricks per storage buffer, plus one word so that no buffer is empty.
     uint64_t range = context.info().max_storage_buffer_range;
     if (max_buffer_bytes > 0) range = std::min(range, max_buffer_bytes);
-    if (range < uint64_t(packed.brick_bytes) + 4) {
-      throw vk::Error("a brick of " + std::to_string(packed.brick_bytes) + " bytes exceeds maxStorageBufferRange " +
+    if (range < uint64_t(packed_.brick_bytes) + 4) {
+      throw vk::Error("a brick of " + std::to_string(packed_.brick_bytes) + " bytes exceeds maxStorageBufferRange " +
                       std::to_string(range));
     }
-    bricks_per_slot = uint32_t(std::min<uint64_t>((range - 4) / packed.brick_bytes, 0xFFFFFFFFull));
-    const uint64_t slots = std::max<uint64_t>(1, (packed.brick_count + bricks_per_slot - 1) / bricks_per_slot);
+    bricks_per_slot_ = uint32_t(std::min<uint64_t>((range - 4) / packed_.brick_bytes, 0xFFFFFFFFull));
+    const uint64_t slots = std::max<uint64_t>(1, (packed_.brick_count + bricks_per_slot_ - 1) / bricks_per_slot_);
     if (slots > kPoolSlots) {
-      throw vk::Error("the octree's bricks (" + mib(packed.brick_count * packed.brick_bytes) + ") need " +
+      throw vk::Error("the octree's bricks (" + mib(packed_.brick_count * packed_.brick_bytes) + ") need " +
                       std::to_string(slots) + " storage buffers of at most " + mib(range) +
                       " (maxStorageBufferRange) and the tracer binds " + std::to_string(kPoolSlots));
     }
     for (uint64_t s = 0; s < slots; ++s) {
-      const uint64_t first = s * bricks_per_slot;
-      const uint64_t count = std::min<uint64_t>(bricks_per_slot, packed.brick_count - std::min(first, packed.brick_count));
-      const size_t bytes = size_t(count * packed.brick_bytes + 4);
-      pools.emplace_back(context, bytes);
-      std::memcpy(pools.back().data(), packed.bricks.data() + first * packed.brick_bytes, bytes);
-      pool_bytes += bytes;
+      const uint64_t first = s * bricks_per_slot_;
+      const uint64_t count = std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
+      const size_t bytes = size_t(count * packed_.brick_bytes + 4);
+      pools_.emplace_back(context, bytes);
+      std::memcpy(pools_.back().data(), packed_.bricks.data() + first * packed_.brick_bytes, bytes);
+      pool_bytes_ += bytes;
     }
-    pool_bytes += nodes.size() + masks.size();
-    const uint32_t specialization[] = {uint32_t(pools.size())};
-    kernel.emplace(context, svo_spv_trace_comp, kBindings, 0, specialization);
-    // Drivers may compile the pipeline at its first dispatch (lavapipe takes
-    // about a second): do it here, so that frame times are frame times.
-    RenderSettings warm_up;
-    warm_up.width = warm_up.height = 1;
-    warm_up.camera.eye = t.origin - glm::vec3(t.size);
-    warm_up.camera.target = t.origin + 0.5f * glm::vec3(t.size);
-    render(warm_up);
+    pool_bytes_ += nodes_.size() + masks_.size();
+    const uint32_t specialization[] = {uint32_t(pools_.size())};
+    kernel_.emplace(context, svo_spv_trace_comp, kBindings, 0, specialization);
   }
 
-  vk::Buffer& ensure(std::optional<vk::Buffer>& buffer, size_t bytes) {
-    if (!buffer || buffer->size() != bytes) {
-      buffer.reset();
-      buffer.emplace(context, bytes);
-    }
-    return *buffer;
-  }
+  std::string name() const override { return "trace"; }
+  std::vector<std::string> reads() const override { return {}; }
+  std::vector<std::string> writes() const override { return {"colour", "gbuffer", "steps"}; }
 
-  Frame render(const RenderSettings& settings) {
-    auto start = std::chrono::steady_clock::now();
-    TraceParams p = make_trace_params(tree, packed, settings);
-    p.pool.y = bricks_per_slot;
-    const uint64_t limit = context.info().max_storage_buffer_range;
+  double run(FrameImages& images, const RenderSettings& settings) override {
+    TraceParams p = make_trace_params(tree_, packed_, settings);
+    p.pool.y = bricks_per_slot_;
+    const uint64_t limit = context_.info().max_storage_buffer_range;
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     if (pixels * 3 * sizeof(glm::vec4) > limit) {
       throw std::invalid_argument("a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
                                   " G-buffer exceeds the device's maxStorageBufferRange of " + mib(limit));
     }
-    std::memcpy(params.data(), &p, sizeof p);
-    vk::Buffer& out = ensure(colour, pixels * sizeof(glm::vec4));
-    vk::Buffer& g = ensure(gbuffer, settings.gbuffer ? pixels * 3 * sizeof(glm::vec4) : 16);
-    vk::Buffer& st = ensure(steps, pixels * sizeof(uint32_t));
-    std::vector<const vk::Buffer*> bound{&params, &nodes, &masks, &out, &g, &st};
-    for (uint32_t s = 0; s < kPoolSlots; ++s) bound.push_back(&pools[std::min<size_t>(s, pools.size() - 1)]);
+    std::memcpy(params_.data(), &p, sizeof p);
+    std::vector<const vk::Buffer*> bound{&params_, &nodes_, &masks_, &images.image("colour", sizeof(glm::vec4)),
+                                         &images.image("gbuffer", 3 * sizeof(glm::vec4)),
+                                         &images.image("steps", sizeof(uint32_t))};
+    for (uint32_t s = 0; s < kPoolSlots; ++s) bound.push_back(&pools_[std::min<size_t>(s, pools_.size() - 1)]);
+    return kernel_->dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
+                             (settings.height + kGroup - 1) / kGroup);
+  }
+
+  size_t pool_bytes() const { return pool_bytes_; }
+  uint32_t pool_buffers() const { return uint32_t(pools_.size()); }
+
+ private:
+  vk::Context& context_;
+  const octree::Octree& tree_;
+  PackedOctree packed_;
+  uint32_t bricks_per_slot_ = 1;
+  vk::Buffer params_, nodes_, masks_;
+  std::vector<vk::Buffer> pools_;
+  std::optional<vk::ComputeKernel> kernel_;  // created once the number of pool buffers is known
+  size_t pool_bytes_ = 0;
+};
+
+}  // namespace
+
+void FrameImages::resize(uint32_t width, uint32_t height) {
+  if (width != width_ || height != height_) images_.clear();
+  width_ = width;
+  height_ = height;
+}
+
+vk::Buffer& FrameImages::image(const std::string& name, std::size_t texel_bytes) {
+  const size_t bytes = std::max<size_t>(4, size_t(width_) * height_ * texel_bytes);
+  auto it = images_.find(name);
+  if (it != images_.end() && it->second.size() == bytes) return it->second;
+  if (it != images_.end()) images_.erase(it);
+  return images_.emplace(name, vk::Buffer(context_, bytes)).first->second;
+}
+
+vk::Buffer& FrameImages::existing(const std::string& name) {
+  auto it = images_.find(name);
+  if (it == images_.end()) throw std::invalid_argument("frame image '" + name + "' does not exist");
+  return it->second;
+}
+
+DisplayPass::DisplayPass(vk::Context& context) : kernel_(context, svo_spv_display_comp, 2, sizeof(uint32_t)) {}
+
+double DisplayPass::run(FrameImages& images, const RenderSettings&) {
+  const uint32_t count = images.width() * images.height();
+  const vk::Buffer* bound[] = {&images.existing("colour"), &images.image("display", sizeof(uint32_t))};
+  return kernel_.dispatch(bound, &count, (count + 63) / 64);
+}
+
+struct GpuRenderer::Impl {
+  vk::Context& context;
+  TracePass* trace;  // passes.front()
+  std::vector<std::unique_ptr<Pass>> passes;
+  std::vector<std::string> written;  // images the chain writes so far
+  DisplayPass display;
+  FrameImages images;
+
+  Impl(vk::Context& c, const octree::Octree& t, uint64_t max_buffer_bytes) : context(c), display(c), images(c) {
+    auto tp = std::make_unique<TracePass>(c, t, max_buffer_bytes);
+    trace = tp.get();
+    add(std::move(tp));
+    // Drivers may compile a pipeline at its first dispatch (lavapipe takes
+    // about a second): do it here, so that frame times are frame times.
+    RenderSettings warm_up;
+    warm_up.width = warm_up.height = 1;
+    warm_up.camera.eye = t.origin - glm::vec3(t.size);
+    warm_up.camera.target = t.origin + 0.5f * glm::vec3(t.size);
+    warm_up.display = true;
+    render(warm_up);
+  }
+
+  void add(std::unique_ptr<Pass> pass) {
+    for (const auto& r : pass->reads()) {
+      if (std::find(written.begin(), written.end(), r) == written.end()) {
+        throw std::invalid_argument("pass '" + pass->name() + "' reads image '" + r + "' that no earlier pass writes");
+      }
+    }
+    for (const auto& w : pass->writes()) written.push_back(w);
+    passes.push_back(std::move(pass));
+  }
+
+  Frame render(const RenderSettings& settings) {
+    auto start = std::chrono::steady_clock::now();
+    images.resize(settings.width, settings.height);
     Frame frame;
     frame.width = settings.width;
     frame.height = settings.height;
-    frame.gpu_ms = kernel->dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
-                                   (settings.height + kGroup - 1) / kGroup);
-    auto colours = out.as<glm::vec4>();
+    frame.gpu_ms = 0;
+    auto time = [&](double ms) { frame.gpu_ms = ms < 0 || frame.gpu_ms < 0 ? -1 : frame.gpu_ms + ms; };
+    for (auto& pass : passes) time(pass->run(images, settings));
+    if (settings.display) time(display.run(images, settings));
+    const size_t pixels = size_t(settings.width) * settings.height;
+    auto colours = images.existing("colour").as<glm::vec4>();
     frame.colour.assign(colours.begin(), colours.begin() + pixels);
-    auto counts = st.as<uint32_t>();
+    auto counts = images.existing("steps").as<uint32_t>();
     frame.steps.assign(counts.begin(), counts.begin() + pixels);
     if (settings.gbuffer) {
-      auto texels = g.as<glm::vec4>();
+      auto texels = images.existing("gbuffer").as<glm::vec4>();
       frame.gbuffer.resize(pixels);
       for (size_t i = 0; i < pixels; ++i) {
         glm::vec4 a = texels[3 * i], b = texels[3 * i + 1], c = texels[3 * i + 2];
         frame.gbuffer[i] = {a.x, glm::vec3(a.y, a.z, a.w), glm::vec3(b), b.w, glm::vec3(c), c.w};
       }
+    }
+    if (settings.display) {
+      auto d = images.existing("display").as<uint32_t>();
+      frame.display.assign(d.begin(), d.begin() + pixels);
     }
     finish_frame_stats(frame);
     frame.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -133,10 +198,14 @@ GpuRenderer::~GpuRenderer() = default;
 
 Frame GpuRenderer::render(const RenderSettings& settings) { return impl_->render(settings); }
 
-std::size_t GpuRenderer::pool_bytes() const { return impl_->pool_bytes; }
+std::size_t GpuRenderer::pool_bytes() const { return impl_->trace->pool_bytes(); }
+
+void GpuRenderer::add_pass(std::unique_ptr<Pass> pass) { impl_->add(std::move(pass)); }
+
+FrameImages& GpuRenderer::images() { return impl_->images; }
 
 }  // namespace svo::render
 
 namespace svo::render {
-uint32_t GpuRenderer::pool_buffers() const { return uint32_t(impl_->pools.size()); }
+uint32_t GpuRenderer::pool_buffers() const { return impl_->trace->pool_buffers(); }
 }  // namespace svo::render

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "svo/octree/octree.h"
+#include "svo/render/pass.h"
 #include "svo/render/vk_context.h"
 
 namespace svo::render {
@@ -64,6 +65,7 @@ struct RenderSettings {
   glm::vec3 background{0.02f, 0.02f, 0.03f};  // radiance of the bits no element set
   float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
   bool gbuffer = false;  // fill Frame::gbuffer
+  bool display = false;  // GPU only: run the display pass and fill Frame::display
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
 };
 
@@ -83,15 +85,18 @@ struct Frame {
   std::vector<glm::vec4> colour;  // row-major, top row first; linear RGB radiance, alpha = coverage
   std::vector<GBufferTexel> gbuffer;  // empty unless requested
   std::vector<uint32_t> steps;  // cone elements visited per pixel (shadow cones included)
+  std::vector<uint32_t> display;  // when requested: 8-bit sRGB RGBA per pixel (DisplayPass)
   double gpu_ms = -1;   // GPU time of the trace from timestamp queries; -1 when unknown (CPU)
   double wall_ms = 0;   // host time of render(), uploads of settings and read-back included
   uint64_t covered_pixels = 0;  // pixels with coverage > 0
   double steps_per_pixel = 0;   // mean over all pixels
 };
 
-// The Vulkan tracer. Uploads the octree once (node pool and per-channel brick
-// pools, split across several storage buffers within the device's
-// maxStorageBufferRange); render() may be called many times.
+// The Vulkan tracer. Uploads the octree once (node pool and brick pools,
+// split across several storage buffers within the device's
+// maxStorageBufferRange); render() may be called many times. A frame is a
+// chain of passes (pass.h): the tracer, the passes added, and the display
+// pass when asked for.
 class GpuRenderer {
  public:
   // Throws vk::Error naming the limit when the octree cannot fit on the device.
@@ -105,6 +110,13 @@ class GpuRenderer {
   // Throws std::invalid_argument for bad settings (size 0 or above the
   // device's limits, too many lights), vk::Error for Vulkan failures.
   Frame render(const RenderSettings& settings);
+
+  // Appends a pass that runs after the tracer (and before the display pass)
+  // on every frame. Throws std::invalid_argument when it reads an image that
+  // no earlier pass writes.
+  void add_pass(std::unique_ptr<Pass> pass);
+  // The images of the last frame (read them through their mapped buffers).
+  FrameImages& images();
 
   std::size_t pool_bytes() const;    // device memory held by the octree pools
   uint32_t pool_buffers() const;     // storage buffers the bricks are split across
