@@ -8,15 +8,16 @@
 #include "svo/render/renderer.h"
 #include "svo/render/vk_compute.h"
 #include "display.comp.spv.h"
-#include "trace.comp.spv.h"
+#include "trace_address.comp.spv.h"
+#include "trace_single.comp.spv.h"
+#include "trace_switch.comp.spv.h"
 #include "trace_setup.h"
 
 namespace svo::render {
 
 namespace {
 
-constexpr uint32_t kPoolSlots = 8;  // SVO_POOL_SLOTS in trace.comp
-constexpr uint32_t kBindings = 6 + kPoolSlots;
+constexpr uint32_t kPoolSlots = 8;  // SVO_POOL_SLOTS in trace_main.glsl
 constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
@@ -24,40 +25,61 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1)
 // The cone tracer as the first pass: writes "colour", "gbuffer", "steps".
 class TracePass : public Pass {
  public:
-  TracePass(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes)
+  TracePass(vk::Context& context, const octree::Octree& tree, const GpuRenderer::Options& options)
       : context_(context),
         tree_(tree),
         packed_(pack_octree(tree)),
         params_(context, sizeof(TraceParams)),
         nodes_(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2))),
-        masks_(context, tracer_mask_table().masks.size() * sizeof(Mask)) {
+        masks_(context, tracer_mask_table().masks.size() * sizeof(Mask)),
+        addresses_(context, kPoolSlots * sizeof(uint64_t)) {
     std::memcpy(nodes_.data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
     std::memcpy(masks_.data(), tracer_mask_table().masks.data(), masks_.size());
-    // Whole bricks per storage buffer, plus one word so that no buffer is empty.
-    uint64_t range = context.info().max_storage_buffer_range;
-    if (max_buffer_bytes > 0) range = std::min(range, max_buffer_bytes);
-    if (range < uint64_t(packed_.brick_bytes) + 4) {
-      throw vk::Error("a brick of " + std::to_string(packed_.brick_bytes) + " bytes exceeds maxStorageBufferRange " +
-                      std::to_string(range));
+    const vk::DeviceInfo& info = context.info();
+    const uint64_t all = packed_.brick_count * packed_.brick_bytes + 4;
+    auto limited = [&](uint64_t limit) { return options.max_buffer_bytes > 0 ? std::min(limit, options.max_buffer_bytes) : limit; };
+    // One storage buffer when the bricks fit; else buffers read through
+    // device addresses (bounded by the allocation size, not the descriptor
+    // range); else separate storage buffers and a switch.
+    uint64_t range = limited(info.max_storage_buffer_range);
+    access_ = "single";
+    if (all > range) {
+      access_ = "switch";
+      if (options.device_address && info.buffer_device_address) {
+        access_ = "address";
+        range = limited(std::min<uint64_t>(info.max_allocation_bytes, 0xFFFFFFFCull));
+      }
     }
+    if (range < uint64_t(packed_.brick_bytes) + 4) {
+      throw vk::Error("a brick of " + std::to_string(packed_.brick_bytes) + " bytes exceeds the buffer limit " +
+                      std::to_string(range) + " of device '" + info.name + "'");
+    }
+    // Whole bricks per buffer, plus one word so that no buffer is empty.
     bricks_per_slot_ = uint32_t(std::min<uint64_t>((range - 4) / packed_.brick_bytes, 0xFFFFFFFFull));
     const uint64_t slots = std::max<uint64_t>(1, (packed_.brick_count + bricks_per_slot_ - 1) / bricks_per_slot_);
     if (slots > kPoolSlots) {
-      throw vk::Error("the octree's bricks (" + mib(packed_.brick_count * packed_.brick_bytes) + ") need " +
-                      std::to_string(slots) + " storage buffers of at most " + mib(range) +
-                      " (maxStorageBufferRange) and the tracer binds " + std::to_string(kPoolSlots));
+      throw vk::Error("the octree's bricks (" + mib(all) + ") need " + std::to_string(slots) + " buffers of at most " +
+                      mib(range) + " on device '" + info.name + "' and the tracer binds " + std::to_string(kPoolSlots));
     }
+    const bool address = access_ == std::string("address");
+    auto slot_addresses = addresses_.as<uint64_t>();
     for (uint64_t s = 0; s < slots; ++s) {
       const uint64_t first = s * bricks_per_slot_;
       const uint64_t count = std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
       const size_t bytes = size_t(count * packed_.brick_bytes + 4);
-      pools_.emplace_back(context, bytes);
+      pools_.emplace_back(context, bytes, address);
       std::memcpy(pools_.back().data(), packed_.bricks.data() + first * packed_.brick_bytes, bytes);
+      slot_addresses[s] = pools_.back().device_address();
       pool_bytes_ += bytes;
     }
     pool_bytes_ += nodes_.size() + masks_.size();
-    const uint32_t specialization[] = {uint32_t(pools_.size())};
-    kernel_.emplace(context, svo_spv_trace_comp, kBindings, 0, specialization);
+    if (access_ == std::string("single")) {
+      kernel_.emplace(context, svo_spv_trace_single_comp, 7, 0);
+    } else if (address) {
+      kernel_.emplace(context, svo_spv_trace_address_comp, 7, 0);
+    } else {
+      kernel_.emplace(context, svo_spv_trace_switch_comp, 6 + kPoolSlots, 0);
+    }
   }
 
   std::string name() const override { return "trace"; }
@@ -77,13 +99,19 @@ class TracePass : public Pass {
     std::vector<const vk::Buffer*> bound{&params_, &nodes_, &masks_, &images.image("colour", sizeof(glm::vec4)),
                                          &images.image("gbuffer", 3 * sizeof(glm::vec4)),
                                          &images.image("steps", sizeof(uint32_t))};
-    for (uint32_t s = 0; s < kPoolSlots; ++s) bound.push_back(&pools_[std::min<size_t>(s, pools_.size() - 1)]);
+    if (access_ == std::string("address")) {
+      bound.push_back(&addresses_);
+    } else {
+      const size_t slots = access_ == std::string("single") ? 1 : kPoolSlots;
+      for (size_t s = 0; s < slots; ++s) bound.push_back(&pools_[std::min(s, pools_.size() - 1)]);
+    }
     return kernel_->dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
                              (settings.height + kGroup - 1) / kGroup);
   }
 
   size_t pool_bytes() const { return pool_bytes_; }
   uint32_t pool_buffers() const { return uint32_t(pools_.size()); }
+  const char* pool_access() const { return access_; }
 
  private:
   vk::Context& context_;
@@ -91,6 +119,8 @@ class TracePass : public Pass {
   PackedOctree packed_;
   uint32_t bricks_per_slot_ = 1;
   vk::Buffer params_, nodes_, masks_;
+  vk::Buffer addresses_;  // device address of each pool buffer (the "address" kernel)
+  const char* access_ = "single";
   std::vector<vk::Buffer> pools_;
   std::optional<vk::ComputeKernel> kernel_;  // created once the number of pool buffers is known
   size_t pool_bytes_ = 0;
@@ -134,8 +164,8 @@ struct GpuRenderer::Impl {
   DisplayPass display;
   FrameImages images;
 
-  Impl(vk::Context& c, const octree::Octree& t, uint64_t max_buffer_bytes) : context(c), display(c), images(c) {
-    auto tp = std::make_unique<TracePass>(c, t, max_buffer_bytes);
+  Impl(vk::Context& c, const octree::Octree& t, const Options& options) : context(c), display(c), images(c) {
+    auto tp = std::make_unique<TracePass>(c, t, options);
     trace = tp.get();
     add(std::move(tp));
     // Drivers may compile a pipeline at its first dispatch (lavapipe takes
@@ -191,8 +221,8 @@ struct GpuRenderer::Impl {
   }
 };
 
-GpuRenderer::GpuRenderer(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes)
-    : impl_(std::make_unique<Impl>(context, tree, max_buffer_bytes)) {}
+GpuRenderer::GpuRenderer(vk::Context& context, const octree::Octree& tree, const Options& options)
+    : impl_(std::make_unique<Impl>(context, tree, options)) {}
 
 GpuRenderer::~GpuRenderer() = default;
 
@@ -208,4 +238,6 @@ FrameImages& GpuRenderer::images() { return impl_->images; }
 
 namespace svo::render {
 uint32_t GpuRenderer::pool_buffers() const { return impl_->trace->pool_buffers(); }
+
+const char* GpuRenderer::pool_access() const { return impl_->trace->pool_access(); }
 }  // namespace svo::render

@@ -5,10 +5,17 @@
 
 namespace svo::vk {
 
-Buffer::Buffer(Context& context, std::size_t bytes) : context_(&context), bytes_(bytes) {
+Buffer::Buffer(Context& context, std::size_t bytes, bool device_address) : context_(&context), bytes_(bytes) {
   const DeviceInfo& info = context.info();
   if (bytes == 0) throw Error("Vulkan: a storage buffer of 0 bytes was requested");
-  if (bytes > info.max_storage_buffer_range) {
+  if (device_address && !info.buffer_device_address) {
+    throw Error("Vulkan: device '" + info.name + "' has no buffer device addresses (VK_KHR_buffer_device_address)");
+  }
+  if (device_address && bytes > info.max_allocation_bytes) {
+    throw Error("Vulkan: a buffer of " + std::to_string(bytes) + " bytes exceeds maxMemoryAllocationSize = " +
+                std::to_string(info.max_allocation_bytes) + " bytes of device '" + info.name + "'");
+  }
+  if (!device_address && bytes > info.max_storage_buffer_range) {
     throw Error("Vulkan: a storage buffer of " + std::to_string(bytes) + " bytes exceeds maxStorageBufferRange = " +
                 std::to_string(info.max_storage_buffer_range) + " bytes of device '" + info.name + "'");
   }
@@ -17,6 +24,7 @@ Buffer::Buffer(Context& context, std::size_t bytes) : context_(&context), bytes_
   create.size = bytes;
   create.usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  if (device_address) create.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   SVO_VK_CHECK(vkCreateBuffer(device, &create, nullptr, &buffer_));
   try {
@@ -26,9 +34,20 @@ Buffer::Buffer(Context& context, std::size_t bytes) : context_(&context), bytes_
     alloc.allocationSize = req.size;
     alloc.memoryTypeIndex = context.memory_type(
         req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    if (device_address) alloc.pNext = &flags;
     SVO_VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &memory_));
     SVO_VK_CHECK(vkBindBufferMemory(device, buffer_, memory_, 0));
     SVO_VK_CHECK(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    if (device_address) {
+      VkBufferDeviceAddressInfo where{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+      where.buffer = buffer_;
+      auto get = reinterpret_cast<PFN_vkGetBufferDeviceAddressKHR>(
+          vkGetDeviceProcAddr(device, "vkGetBufferDeviceAddressKHR"));
+      if (!get) throw Error("Vulkan: vkGetBufferDeviceAddressKHR is missing");
+      address_ = get(device, &where);
+    }
   } catch (...) {
     if (memory_) vkFreeMemory(device, memory_, nullptr);
     vkDestroyBuffer(device, buffer_, nullptr);
@@ -41,7 +60,8 @@ Buffer::Buffer(Buffer&& other) noexcept
       bytes_(other.bytes_),
       buffer_(std::exchange(other.buffer_, VK_NULL_HANDLE)),
       memory_(std::exchange(other.memory_, VK_NULL_HANDLE)),
-      mapped_(std::exchange(other.mapped_, nullptr)) {}
+      mapped_(std::exchange(other.mapped_, nullptr)),
+      address_(std::exchange(other.address_, 0)) {}
 
 Buffer::~Buffer() {
   VkDevice device = context_->device();
@@ -54,7 +74,13 @@ Buffer::~Buffer() {
 
 ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
                              uint32_t push_constant_bytes, std::span<const uint32_t> specialization)
-    : context_(context), storage_buffers_(storage_buffers), push_bytes_(push_constant_bytes) {
+    : ComputeKernel(context, spirv, std::vector<uint32_t>(storage_buffers, 1u), push_constant_bytes, specialization) {}
+
+ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, std::vector<uint32_t> binding_counts,
+                             uint32_t push_constant_bytes, std::span<const uint32_t> specialization)
+    : context_(context), binding_counts_(std::move(binding_counts)), push_bytes_(push_constant_bytes) {
+  storage_buffers_ = 0;
+  for (uint32_t c : binding_counts_) storage_buffers_ += c;
   if (spirv.empty() || spirv[0] != 0x07230203u) {
     throw Error("Vulkan: compute kernel given " + std::to_string(spirv.size()) +
                 " words that are not a SPIR-V module (no magic number)");
@@ -73,15 +99,15 @@ ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, 
   module.pCode = spirv.data();
   SVO_VK_CHECK(vkCreateShaderModule(device, &module, nullptr, &module_));
 
-  std::vector<VkDescriptorSetLayoutBinding> bindings(storage_buffers);
-  for (uint32_t i = 0; i < storage_buffers; ++i) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings(binding_counts_.size());
+  for (uint32_t i = 0; i < bindings.size(); ++i) {
     bindings[i].binding = i;
     bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[i].descriptorCount = 1;
+    bindings[i].descriptorCount = binding_counts_[i];
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
   VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_layout.bindingCount = storage_buffers;
+  set_layout.bindingCount = uint32_t(bindings.size());
   set_layout.pBindings = bindings.data();
   SVO_VK_CHECK(vkCreateDescriptorSetLayout(device, &set_layout, nullptr, &set_layout_));
 
@@ -107,7 +133,7 @@ ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, 
   pipeline.layout = layout_;
   SVO_VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_));
 
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage_buffers > 0 ? storage_buffers : 1};
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage_buffers_ > 0 ? storage_buffers_ : 1};
   VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool.maxSets = 1;
   pool.poolSizeCount = 1;
@@ -157,15 +183,15 @@ double ComputeKernel::dispatch(std::span<const Buffer* const> buffers, const voi
   }
   VkDevice device = context_.device();
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-  std::vector<VkWriteDescriptorSet> writes(buffers.size());
-  for (size_t i = 0; i < buffers.size(); ++i) {
-    infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    writes[i].dstSet = set_;
-    writes[i].dstBinding = uint32_t(i);
-    writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+  for (size_t i = 0; i < buffers.size(); ++i) infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+  std::vector<VkWriteDescriptorSet> writes(binding_counts_.size());
+  for (size_t b = 0, first = 0; b < binding_counts_.size(); first += binding_counts_[b], ++b) {
+    writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[b].dstSet = set_;
+    writes[b].dstBinding = uint32_t(b);
+    writes[b].descriptorCount = binding_counts_[b];
+    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].pBufferInfo = &infos[first];
   }
   vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);
 

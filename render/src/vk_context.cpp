@@ -199,7 +199,9 @@ int present_family(VkPhysicalDevice device, VkSurfaceKHR surface, std::string& w
 }
 
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  subgroup.pNext = &maintenance3;
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   props2.pNext = &subgroup;
   vkGetPhysicalDeviceProperties2(device, &props2);
@@ -212,6 +214,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
                      std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) + "." +
                      std::to_string(VK_API_VERSION_PATCH(p.apiVersion));
   info.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  info.max_allocation_bytes = maintenance3.maxMemoryAllocationSize;
   info.max_image_dimension_3d = p.limits.maxImageDimension3D;
   info.max_compute_workgroup_invocations = p.limits.maxComputeWorkGroupInvocations;
   info.subgroup_size = subgroup.subgroupSize;
@@ -367,11 +370,36 @@ Context::Context(const ContextOptions& options) {
     VkDeviceCreateInfo device{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     device.queueCreateInfoCount = 1;
     device.pQueueCreateInfos = &queue;
-    const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
-    if (surface_) {
-      device.enabledExtensionCount = 1;
-      device.ppEnabledExtensionNames = &swapchain;
+    std::vector<const char*> extensions;
+    if (surface_) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    // Buffer device addresses: the tracer's brick pools beyond
+    // maxStorageBufferRange (lavapipe: 128 MiB) without a branch per read.
+    VkPhysicalDeviceBufferDeviceAddressFeatures address{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES};
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    {
+      uint32_t count = 0;
+      vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, nullptr);
+      std::vector<VkExtensionProperties> available(count);
+      vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, available.data());
+      bool has = false;
+      for (const auto& e : available) has = has || std::string(e.extensionName) == VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME;
+      if (has) {
+        features.pNext = &address;
+        vkGetPhysicalDeviceFeatures2(physical_, &features);
+        if (address.bufferDeviceAddress && features.features.shaderInt64) {
+          address = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES};
+          address.bufferDeviceAddress = VK_TRUE;
+          features = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+          features.features.shaderInt64 = VK_TRUE;
+          features.pNext = &address;
+          device.pNext = &features;
+          extensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
+          info_.buffer_device_address = true;
+        }
+      }
     }
+    device.enabledExtensionCount = uint32_t(extensions.size());
+    device.ppEnabledExtensionNames = extensions.data();
     SVO_VK_CHECK(vkCreateDevice(physical_, &device, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 

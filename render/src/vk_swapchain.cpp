@@ -9,26 +9,9 @@ namespace svo::vk {
 
 namespace {
 
-bool is_srgb(VkFormat format) {
-  switch (format) {
-    case VK_FORMAT_R8G8B8A8_SRGB:
-    case VK_FORMAT_B8G8R8A8_SRGB:
-    case VK_FORMAT_A8B8G8R8_SRGB_PACK32:
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool can_blit_to(VkPhysicalDevice physical, VkFormat format) {
-  VkFormatProperties props;
-  vkGetPhysicalDeviceFormatProperties(physical, format, &props);
-  return props.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT;
-}
-
-// Our bytes are already sRGB-encoded, so a UNORM format in the sRGB colour
-// space shows them unchanged; an SRGB format works too (the blit decodes and
-// re-encodes). Anything else in that colour space that takes blits comes last.
+// Copies do not convert, so the swapchain must hold 8-bit RGBA or BGRA. Our
+// bytes are sRGB-encoded: a UNORM format in the sRGB colour space and an SRGB
+// format both show them as they are.
 VkSurfaceFormatKHR choose_format(VkPhysicalDevice physical, VkSurfaceKHR surface) {
   uint32_t count = 0;
   SVO_VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, nullptr));
@@ -38,16 +21,13 @@ VkSurfaceFormatKHR choose_format(VkPhysicalDevice physical, VkSurfaceKHR surface
                                 VK_FORMAT_R8G8B8A8_SRGB};
   for (VkFormat want : preferred) {
     for (const auto& f : formats) {
-      if (f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR && can_blit_to(physical, f.format)) {
-        return f;
-      }
+      if (f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR) return f;
     }
   }
-  for (const auto& f : formats) {
-    if (f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR && can_blit_to(physical, f.format)) return f;
-  }
-  throw Error("Vulkan: none of the window's " + std::to_string(count) +
-              " surface formats can be a blit destination in the sRGB colour space");
+  std::string offered;
+  for (const auto& f : formats) offered += (offered.empty() ? "" : ", ") + std::to_string(int(f.format));
+  throw Error("Vulkan: the window's surface offers no 8-bit RGBA or BGRA format in the sRGB colour space (VkFormat " +
+              offered + ")");
 }
 
 void barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
@@ -62,6 +42,52 @@ void barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayo
   b.image = image;
   b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+// Where output pixel i of n falls among the m source pixels (pixel centres
+// aligned, clamped at the borders): the lower source index and the weight of the next.
+struct Tap {
+  uint32_t i0, i1;
+  float w1;
+};
+std::vector<Tap> taps(uint32_t n, uint32_t m) {
+  std::vector<Tap> t(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float x = std::clamp((float(i) + 0.5f) * float(m) / float(n) - 0.5f, 0.0f, float(m - 1));
+    uint32_t i0 = std::min(uint32_t(x), m - 1);
+    t[i] = {i0, std::min(i0 + 1, m - 1), x - float(i0)};
+  }
+  return t;
+}
+
+// `src` (w x h RGBA) stretched to `dst` (W x H, 4 bytes a pixel, BGRA when
+// `bgra`), bilinear; alpha 255 (the window is opaque).
+void stretch(std::span<const uint8_t> src, uint32_t w, uint32_t h, uint8_t* dst, uint32_t W, uint32_t H, bool bgra) {
+  const int order[3] = {bgra ? 2 : 0, 1, bgra ? 0 : 2};  // destination byte c takes source channel order[c]
+  if (w == W && h == H) {
+    for (size_t p = 0; p < size_t(w) * h; ++p) {
+      for (int c = 0; c < 3; ++c) dst[4 * p + size_t(c)] = src[4 * p + size_t(order[c])];
+      dst[4 * p + 3] = 255;
+    }
+    return;
+  }
+  std::vector<Tap> xs = taps(W, w), ys = taps(H, h);
+  for (uint32_t y = 0; y < H; ++y) {
+    const uint8_t* row0 = src.data() + size_t(ys[y].i0) * w * 4;
+    const uint8_t* row1 = src.data() + size_t(ys[y].i1) * w * 4;
+    float wy = ys[y].w1;
+    uint8_t* out = dst + size_t(y) * W * 4;
+    for (uint32_t x = 0; x < W; ++x) {
+      const Tap& t = xs[x];
+      out[4 * x + 3] = 255;
+      for (int c = 0; c < 3; ++c) {
+        size_t k = size_t(order[c]);
+        float top = float(row0[4 * t.i0 + k]) + t.w1 * (float(row0[4 * t.i1 + k]) - float(row0[4 * t.i0 + k]));
+        float bottom = float(row1[4 * t.i0 + k]) + t.w1 * (float(row1[4 * t.i1 + k]) - float(row1[4 * t.i0 + k]));
+        out[4 * x + uint32_t(c)] = uint8_t(top + wy * (bottom - top) + 0.5f);
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -95,7 +121,7 @@ Swapchain::~Swapchain() { release(); }
 void Swapchain::release() {
   VkDevice device = context_.device();
   vkDeviceWaitIdle(device);
-  destroy_source();
+  destroy_staging();
   destroy_swapchain();
   if (acquired_) vkDestroySemaphore(device, acquired_, nullptr);
   if (fence_) vkDestroyFence(device, fence_, nullptr);
@@ -156,22 +182,23 @@ void Swapchain::create(uint32_t width, uint32_t height) {
   destroy_swapchain();  // the old one, retired by the new one's creation
   swapchain_ = fresh;
   format_ = format.format;
+  bgra_ = format.format == VK_FORMAT_B8G8R8A8_UNORM || format.format == VK_FORMAT_B8G8R8A8_SRGB;
   extent_ = extent;
   uint32_t count = 0;
   SVO_VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
   images_.resize(count);
   SVO_VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
-  blitted_.assign(count, VK_NULL_HANDLE);
+  copied_.assign(count, VK_NULL_HANDLE);
   VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  for (VkSemaphore& s : blitted_) SVO_VK_CHECK(vkCreateSemaphore(device, &semaphore, nullptr, &s));
+  for (VkSemaphore& s : copied_) SVO_VK_CHECK(vkCreateSemaphore(device, &semaphore, nullptr, &s));
 }
 
 void Swapchain::destroy_swapchain() {
   VkDevice device = context_.device();
-  for (VkSemaphore s : blitted_) {
+  for (VkSemaphore s : copied_) {
     if (s) vkDestroySemaphore(device, s, nullptr);
   }
-  blitted_.clear();
+  copied_.clear();
   images_.clear();
   if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
   swapchain_ = VK_NULL_HANDLE;
@@ -184,13 +211,10 @@ void Swapchain::resize(uint32_t width, uint32_t height) {
   create(width, height);
 }
 
-void Swapchain::ensure_source(uint32_t width, uint32_t height) {
-  VkFormat format = is_srgb(format_) ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
-  if (source_ && width == source_width_ && height == source_height_ && format == source_format_) return;
-  destroy_source();
+void Swapchain::ensure_staging(VkDeviceSize bytes) {
+  if (staging_ && staging_bytes_ == bytes) return;
+  destroy_staging();
   VkDevice device = context_.device();
-  VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
-
   VkBufferCreateInfo buffer{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   buffer.size = bytes;
   buffer.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
@@ -204,42 +228,20 @@ void Swapchain::ensure_source(uint32_t width, uint32_t height) {
       req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
   SVO_VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &staging_memory_));
   SVO_VK_CHECK(vkBindBufferMemory(device, staging_, staging_memory_, 0));
-  SVO_VK_CHECK(vkMapMemory(device, staging_memory_, 0, VK_WHOLE_SIZE, 0, &staging_mapped_));
-
-  VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  image.imageType = VK_IMAGE_TYPE_2D;
-  image.format = format;
-  image.extent = {width, height, 1};
-  image.mipLevels = 1;
-  image.arrayLayers = 1;
-  image.samples = VK_SAMPLE_COUNT_1_BIT;
-  image.tiling = VK_IMAGE_TILING_OPTIMAL;
-  image.usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-  image.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  image.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  SVO_VK_CHECK(vkCreateImage(device, &image, nullptr, &source_));
-  vkGetImageMemoryRequirements(device, source_, &req);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = context_.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  SVO_VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &source_memory_));
-  SVO_VK_CHECK(vkBindImageMemory(device, source_, source_memory_, 0));
-  source_width_ = width;
-  source_height_ = height;
-  source_format_ = format;
+  void* mapped = nullptr;
+  SVO_VK_CHECK(vkMapMemory(device, staging_memory_, 0, VK_WHOLE_SIZE, 0, &mapped));
+  staging_mapped_ = static_cast<uint8_t*>(mapped);
+  staging_bytes_ = bytes;
 }
 
-void Swapchain::destroy_source() {
+void Swapchain::destroy_staging() {
   VkDevice device = context_.device();
-  if (source_) vkDestroyImage(device, source_, nullptr);
-  if (source_memory_) vkFreeMemory(device, source_memory_, nullptr);
   if (staging_) vkDestroyBuffer(device, staging_, nullptr);
   if (staging_memory_) vkFreeMemory(device, staging_memory_, nullptr);  // unmaps
-  source_ = VK_NULL_HANDLE;
-  source_memory_ = VK_NULL_HANDLE;
   staging_ = VK_NULL_HANDLE;
   staging_memory_ = VK_NULL_HANDLE;
   staging_mapped_ = nullptr;
-  source_width_ = source_height_ = 0;
+  staging_bytes_ = 0;
 }
 
 bool Swapchain::present(std::span<const uint8_t> rgba, uint32_t width, uint32_t height) {
@@ -255,35 +257,23 @@ bool Swapchain::present(std::span<const uint8_t> rgba, uint32_t width, uint32_t 
   // Suboptimal still hands out an image and signals the semaphore: present it, then report.
   if (acquired != VK_SUBOPTIMAL_KHR) SVO_VK_CHECK(acquired);
 
-  ensure_source(width, height);
-  std::memcpy(staging_mapped_, rgba.data(), rgba.size());
+  ensure_staging(VkDeviceSize(extent_.width) * extent_.height * 4);
+  stretch(rgba, width, height, staging_mapped_, extent_.width, extent_.height, bgra_);
 
   SVO_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   SVO_VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+  // The acquire semaphore is waited on at the transfer stage; host writes to
+  // the staging buffer are visible to the copy because the submission follows them.
   const VkPipelineStageFlags transfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  // staging buffer -> source image (host writes are visible at submission)
-  barrier(cmd_, source_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, transfer);
-  VkBufferImageCopy copy{};
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  copy.imageExtent = {width, height, 1};
-  vkCmdCopyBufferToImage(cmd_, staging_, source_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-  barrier(cmd_, source_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-          VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, transfer, transfer);
-  // source image -> swapchain image, scaled; the acquire semaphore is waited on at the transfer stage
   VkImage target = images_[index];
   barrier(cmd_, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
           VK_ACCESS_TRANSFER_WRITE_BIT, transfer, transfer);
-  VkImageBlit blit{};
-  blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  blit.srcOffsets[1] = {int32_t(width), int32_t(height), 1};
-  blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  blit.dstOffsets[1] = {int32_t(extent_.width), int32_t(extent_.height), 1};
-  bool same_size = width == extent_.width && height == extent_.height;
-  vkCmdBlitImage(cmd_, source_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                 &blit, same_size ? VK_FILTER_NEAREST : VK_FILTER_LINEAR);
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageExtent = {extent_.width, extent_.height, 1};
+  vkCmdCopyBufferToImage(cmd_, staging_, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   barrier(cmd_, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
           VK_ACCESS_TRANSFER_WRITE_BIT, 0, transfer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
   SVO_VK_CHECK(vkEndCommandBuffer(cmd_));
@@ -295,14 +285,14 @@ bool Swapchain::present(std::span<const uint8_t> rgba, uint32_t width, uint32_t 
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd_;
   submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &blitted_[index];
+  submit.pSignalSemaphores = &copied_[index];
   SVO_VK_CHECK(vkResetFences(device, 1, &fence_));
   SVO_VK_CHECK(vkQueueSubmit(context_.queue(), 1, &submit, fence_));
   SVO_VK_CHECK(vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX));
 
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
-  present.pWaitSemaphores = &blitted_[index];
+  present.pWaitSemaphores = &copied_[index];
   present.swapchainCount = 1;
   present.pSwapchains = &swapchain_;
   present.pImageIndices = &index;

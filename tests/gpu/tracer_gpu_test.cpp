@@ -83,25 +83,30 @@ TEST_F(TracerGpu, AgreesWithTheCpuTracerInEveryMode) {
   EXPECT_TRUE(messages.empty()) << messages.front();
 }
 
-// Bricks split across several storage buffers render the same image.
+// Bricks split across several buffers render the same image, whether the
+// tracer reads them through device addresses or through separate storage
+// buffers; more buffers than the tracer binds are refused, naming the limit.
 TEST_F(TracerGpu, PoolsSplitAcrossBuffersRenderTheSameImage) {
   vk::ContextOptions options;
   options.validation = true;
   vk::Context context(options);
   GpuRenderer whole(context, *tree_);
+  EXPECT_STREQ(whole.pool_access(), "single");
   RenderSettings s;
   s.width = s.height = 32;
   s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
   Frame a = whole.render(s);
   uint64_t brick_bytes = 0;
   for (const auto& data : tree_->brick_data) brick_bytes += data.size();
-  GpuRenderer split(context, *tree_, brick_bytes / 5);
-  EXPECT_GE(split.pool_buffers(), 5u);
-  Frame b = split.render(s);
-  Difference d = compare(a, b, 0.0f);
-  EXPECT_EQ(d.max, 0.0);
-  // More buffers than the tracer binds: refused, naming the limit.
-  EXPECT_THROW(GpuRenderer(context, *tree_, brick_bytes / 9), vk::Error);
+  for (bool address : {true, false}) {
+    if (address && !context.info().buffer_device_address) continue;
+    GpuRenderer split(context, *tree_, {brick_bytes / 5, address});
+    EXPECT_STREQ(split.pool_access(), address ? "address" : "switch");
+    EXPECT_GE(split.pool_buffers(), 5u);
+    Frame b = split.render(s);
+    EXPECT_EQ(compare(a, b, 0.0f).max, 0.0) << split.pool_access();
+    EXPECT_THROW(GpuRenderer(context, *tree_, {brick_bytes / 9, address}), vk::Error);
+  }
   auto messages = context.validation_messages();
   EXPECT_TRUE(messages.empty()) << messages.front();
 }

@@ -99,10 +99,17 @@ struct Frame {
 // pass when asked for.
 class GpuRenderer {
  public:
+  struct Options {
+    // Lowers the size of one brick buffer below the device's limit (0: the
+    // device's); tests use it to split pools.
+    uint64_t max_buffer_bytes = 0;
+    // Read pools beyond one storage buffer through buffer device addresses
+    // when the device has them (false: separate storage buffers, slower).
+    bool device_address = true;
+  };
   // Throws vk::Error naming the limit when the octree cannot fit on the device.
-  // `max_buffer_bytes` lowers the size of one pool buffer below the device's
-  // maxStorageBufferRange (0: the device's limit); tests use it to split pools.
-  GpuRenderer(vk::Context& context, const octree::Octree& tree, uint64_t max_buffer_bytes = 0);
+  GpuRenderer(vk::Context& context, const octree::Octree& tree) : GpuRenderer(context, tree, Options{}) {}
+  GpuRenderer(vk::Context& context, const octree::Octree& tree, const Options& options);
   ~GpuRenderer();
   GpuRenderer(const GpuRenderer&) = delete;
   GpuRenderer& operator=(const GpuRenderer&) = delete;
@@ -119,7 +126,8 @@ class GpuRenderer {
   FrameImages& images();
 
   std::size_t pool_bytes() const;    // device memory held by the octree pools
-  uint32_t pool_buffers() const;     // storage buffers the bricks are split across
+  uint32_t pool_buffers() const;     // buffers the bricks are split across
+  const char* pool_access() const;   // "single", "address" or "switch": how the tracer reads them
 
  private:
   struct Impl;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "svo/render/vk_context.h"
 
@@ -15,8 +16,11 @@ namespace svo::vk {
 class Buffer {
  public:
   // Throws Error if `bytes` is 0 or exceeds the device's maxStorageBufferRange
-  // (the message names the limit), or if allocation fails.
-  Buffer(Context& context, std::size_t bytes);
+  // (the message names the limit), or if allocation fails. With
+  // `device_address` the buffer is read through its device address instead
+  // (see device_address()): the bound is then maxMemoryAllocationSize, and
+  // the device must have DeviceInfo::buffer_device_address.
+  Buffer(Context& context, std::size_t bytes, bool device_address = false);
   ~Buffer();
   Buffer(Buffer&& other) noexcept;
   Buffer& operator=(Buffer&&) = delete;
@@ -24,6 +28,7 @@ class Buffer {
   Buffer& operator=(const Buffer&) = delete;
 
   VkBuffer handle() const { return buffer_; }
+  uint64_t device_address() const { return address_; }  // 0 unless created with device_address
   std::size_t size() const { return bytes_; }
   void* data() const { return mapped_; }
 
@@ -38,6 +43,7 @@ class Buffer {
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;
+  uint64_t address_ = 0;
 };
 
 // A compute pipeline whose set 0 holds `storage_buffers` storage buffers at
@@ -46,6 +52,10 @@ class Buffer {
 class ComputeKernel {
  public:
   ComputeKernel(Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffers,
+                uint32_t push_constant_bytes, std::span<const uint32_t> specialization = {});
+  // Binding i is an array of binding_counts[i] storage buffers; dispatch()
+  // takes the buffers of all bindings in order, arrays flattened.
+  ComputeKernel(Context& context, std::span<const uint32_t> spirv, std::vector<uint32_t> binding_counts,
                 uint32_t push_constant_bytes, std::span<const uint32_t> specialization = {});
   ~ComputeKernel();
   ComputeKernel(const ComputeKernel&) = delete;
@@ -63,7 +73,8 @@ class ComputeKernel {
   void release();  // destroys every handle created so far
 
   Context& context_;
-  uint32_t storage_buffers_;
+  std::vector<uint32_t> binding_counts_;
+  uint32_t storage_buffers_;  // sum of binding_counts_
   uint32_t push_bytes_;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;

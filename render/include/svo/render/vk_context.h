@@ -42,6 +42,10 @@ struct DeviceInfo {
   uint32_t subgroup_size = 0;
   uint64_t device_local_bytes = 0;
   bool timestamps = false;         // compute queue supports timestamp queries
+  uint64_t max_allocation_bytes = 0;  // maxMemoryAllocationSize
+  // Buffers read through 64-bit device addresses (VK_KHR_buffer_device_address
+  // and shaderInt64), not bounded by maxStorageBufferRange; enabled when present.
+  bool buffer_device_address = false;
   double timestamp_period_ns = 0;  // nanoseconds per timestamp tick
 };
 

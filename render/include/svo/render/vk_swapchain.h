@@ -1,7 +1,10 @@
 // Shows host images in a window: a Vulkan swapchain on the surface of a
-// presenting Context (ContextOptions::create_surface). Each present uploads
-// 8-bit sRGB pixels to a transfer image and blits them, scaled to the window,
-// into the acquired swapchain image. Knows nothing of the windowing library.
+// presenting Context (ContextOptions::create_surface). Each present scales
+// 8-bit sRGB pixels to the window on the host (bilinear), writes them to a
+// staging buffer in the swapchain's byte order and copies them into the
+// acquired swapchain image (vkCmdCopyBufferToImage: no shader runs, so the
+// path works on any device whose surface takes transfer writes). Knows
+// nothing of the windowing library.
 #pragma once
 
 #include <cstddef>
@@ -19,8 +22,9 @@ class Swapchain {
   // `width` x `height`: the window's framebuffer in pixels, used when the
   // surface leaves the extent to the application; 0 x 0 (a minimised window)
   // creates no swapchain until resize().
-  // @throw Error when the surface cannot take transfer writes, when no surface
-  //        format can be a blit destination, or on any Vulkan failure.
+  // @throw Error when the surface cannot take transfer writes, when it offers
+  //        no 8-bit RGBA or BGRA format in the sRGB colour space, or on any
+  //        Vulkan failure.
   Swapchain(Context& context, uint32_t width, uint32_t height);
   ~Swapchain();
   Swapchain(const Swapchain&) = delete;
@@ -30,8 +34,8 @@ class Swapchain {
   void resize(uint32_t width, uint32_t height);
 
   // Presents `rgba` (width x height pixels, row-major, top row first, bytes
-  // R, G, B, A, sRGB-encoded), stretched over the whole window with a linear
-  // filter. Returns when the GPU copy is done (the span may then be reused).
+  // R, G, B, A, sRGB-encoded; A is ignored: the window is opaque), stretched
+  // over the whole window with a bilinear filter. Returns when the GPU copy is done.
   // Returns false when the swapchain no longer matches the window (out of
   // date, suboptimal, or no swapchain because the window is minimised): call
   // resize() with the window's size and present again.
@@ -46,29 +50,27 @@ class Swapchain {
   void release();  // destroys every handle created so far
   void create(uint32_t width, uint32_t height);
   void destroy_swapchain();
-  void ensure_source(uint32_t width, uint32_t height);  // staging buffer and transfer image of this size
-  void destroy_source();
+  void ensure_staging(VkDeviceSize bytes);
+  void destroy_staging();
 
   Context& context_;
   VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
   VkFormat format_ = VK_FORMAT_UNDEFINED;
+  bool bgra_ = false;  // the swapchain's bytes are B, G, R, A
   VkExtent2D extent_{0, 0};
   std::vector<VkImage> images_;
-  std::vector<VkSemaphore> blitted_;  // per swapchain image: the blit is done, present may read
+  std::vector<VkSemaphore> copied_;  // per swapchain image: the copy is done, present may read
 
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   VkSemaphore acquired_ = VK_NULL_HANDLE;
 
-  // The uploaded picture: host-visible staging buffer, then a transfer image.
-  uint32_t source_width_ = 0, source_height_ = 0;
-  VkFormat source_format_ = VK_FORMAT_UNDEFINED;  // R8G8B8A8, UNORM or SRGB like the swapchain's
+  // The picture at the swapchain's size, host-visible and mapped.
+  VkDeviceSize staging_bytes_ = 0;
   VkBuffer staging_ = VK_NULL_HANDLE;
   VkDeviceMemory staging_memory_ = VK_NULL_HANDLE;
-  void* staging_mapped_ = nullptr;
-  VkImage source_ = VK_NULL_HANDLE;
-  VkDeviceMemory source_memory_ = VK_NULL_HANDLE;
+  uint8_t* staging_mapped_ = nullptr;
 };
 
 }  // namespace svo::vk

@@ -1,14 +1,13 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
-// One cone per pixel (common/tracer.glsl). Brick records are spread over up
-// to SVO_POOL_SLOTS storage buffers of whole bricks each, so that a pool
-// larger than the device's maxStorageBufferRange still fits.
+// The body of the trace kernels: one cone per pixel (common/tracer.glsl).
+// Bricks lie in one or more buffers of whole bricks each, read three ways:
+//   trace_single.comp   one storage buffer (fits maxStorageBufferRange; any device)
+//   trace_address.comp  up to SVO_POOL_SLOTS buffers through device addresses
+//   trace_switch.comp   up to SVO_POOL_SLOTS storage buffers, a switch per read
+//                       (devices without buffer device addresses; lavapipe
+//                       runs it 2.7x slower than the others)
 #include "common/tracer_params.glsl"
 
 #define SVO_POOL_SLOTS 8
-// How many pool buffers hold bricks (specialised at pipeline creation, so
-// that the usual single buffer costs no branch).
-layout(constant_id = 0) const uint SVO_POOL_BUFFERS = SVO_POOL_SLOTS;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -18,6 +17,12 @@ layout(std430, set = 0, binding = 2) readonly restrict buffer Masks { uvec4 mask
 layout(std430, set = 0, binding = 3) writeonly restrict buffer ColourOut { vec4 colour_out[]; };
 layout(std430, set = 0, binding = 4) writeonly restrict buffer GBufferOut { vec4 gbuffer_out[]; };
 layout(std430, set = 0, binding = 5) writeonly restrict buffer StepsOut { uint steps_out[]; };
+#if defined(SVO_POOL_SINGLE)
+layout(std430, set = 0, binding = 6) readonly restrict buffer Pool { uint words[]; } pool;
+#elif defined(SVO_POOL_ADDRESS)
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SvoWords { uint w[]; };
+layout(std430, set = 0, binding = 6) readonly restrict buffer PoolAddresses { uvec2 pool_address[]; };
+#else
 layout(std430, set = 0, binding = 6) readonly restrict buffer Pool0 { uint pool0[]; };
 layout(std430, set = 0, binding = 7) readonly restrict buffer Pool1 { uint pool1[]; };
 layout(std430, set = 0, binding = 8) readonly restrict buffer Pool2 { uint pool2[]; };
@@ -26,13 +31,18 @@ layout(std430, set = 0, binding = 10) readonly restrict buffer Pool4 { uint pool
 layout(std430, set = 0, binding = 11) readonly restrict buffer Pool5 { uint pool5[]; };
 layout(std430, set = 0, binding = 12) readonly restrict buffer Pool6 { uint pool6[]; };
 layout(std430, set = 0, binding = 13) readonly restrict buffer Pool7 { uint pool7[]; };
+#endif
 
 uvec2 svo_node(uint index) { return nodes[index]; }
 
 uvec4 svo_mask(uint cell) { return masks[cell]; }
 
 uint svo_pool_word(uint slot, uint i) {
-  if (SVO_POOL_BUFFERS == 1u) return pool0[i];
+#if defined(SVO_POOL_SINGLE)
+  return pool.words[i];
+#elif defined(SVO_POOL_ADDRESS)
+  return SvoWords(pool_address[slot]).w[i];
+#else
   switch (slot) {
     case 0u: return pool0[i];
     case 1u: return pool1[i];
@@ -43,6 +53,7 @@ uint svo_pool_word(uint slot, uint i) {
     case 6u: return pool6[i];
     default: return pool7[i];
   }
+#endif
 }
 
 uint svo_brick_bytes(uint brick, uint offset) {
