@@ -24,7 +24,8 @@ PACKAGES=(
   libopenimageio-dev                       # textures; PNG and EXR output
   libtbb-dev                               # parallel loops
   libglfw3-dev                             # the window of svo view
-  xvfb xauth                               # xvfb-run: the viewer's tests without a display
+  libembree-dev                            # meshes ray traced for svo reference (ground truth)
+  xvfb xauth xdotool                       # xvfb-run, keys: the viewer's tests without a display
   libgtest-dev libgmock-dev                # tests
 )
 

@@ -90,6 +90,7 @@ void print_json(const octree::SvoView& svo, const std::vector<Level>& levels) {
        {json_float(shape.constant_colour.x), json_float(shape.constant_colour.y), json_float(shape.constant_colour.z)}},
       {"nodes", svo.nodes().size()},
       {"bricks", svo.brick_count()},
+      {"shells", shape.shell_count},
       {"voxels", voxels},
       {"bytes", svo.file_bytes()},
       {"bytes_per_voxel", nullptr},
@@ -110,7 +111,7 @@ void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
   row("bounds") << "[" << lo.x << ", " << lo.y << ", " << lo.z << "] to [" << hi.x << ", " << hi.y << ", " << hi.z
                 << "] (size " << shape.size << ")\n";
   row("nodes") << svo.nodes().size() << "\n";
-  row("bricks") << svo.brick_count() << "\n";
+  row("bricks") << svo.brick_count() << " (" << shape.shell_count << " on the domain's upper boundary, with shells)\n";
   row("voxels") << voxels << "\n";
   row("bytes") << svo.file_bytes() << " (" << bytes_text(svo.file_bytes()) << ")\n";
   std::ostringstream per_voxel;

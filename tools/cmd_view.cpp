@@ -1,6 +1,6 @@
 // svo view: an interactive window on a .svo file. Each frame the cone tracer
-// renders the view (GpuRenderer), the host converts it to 8-bit sRGB and the
-// swapchain shows it scaled to the window. Frames are drawn when something
+// renders the view (GpuRenderer, with its display pass: 8-bit sRGB) and the
+// swapchain shows it stretched to the window. Frames are drawn when something
 // changed, not continuously, so an idle viewer costs nothing.
 #include <algorithm>
 #include <chrono>
@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <span>
 #include <sstream>
 
 #include "commands.h"
@@ -43,27 +44,6 @@ const char* kControls =
     "S shadows on/off, R back to the far view, Esc or Q quit.\n"
     "The title shows the mode, the GPU time of the trace and the wall time of the frame.";
 
-// 8-bit sRGB RGBA of the frame's colour (linear radiance clamped to [0, 1]).
-void to_srgb8(const render::Frame& frame, std::vector<uint8_t>& out) {
-  // The transfer through a table: 4096 steps keep every code within one of exact.
-  static const std::vector<uint8_t> table = [] {
-    std::vector<uint8_t> t(4097);
-    for (size_t i = 0; i < t.size(); ++i) {
-      t[i] = uint8_t(std::lround(255.0f * render::linear_to_srgb(float(i) / 4096.0f)));
-    }
-    return t;
-  }();
-  out.resize(frame.colour.size() * 4);
-  for (size_t i = 0; i < frame.colour.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      float v = frame.colour[i][c];
-      v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
-      out[4 * i + size_t(c)] = table[size_t(std::lround(v * 4096.0f))];
-    }
-    out[4 * i + 3] = 255;
-  }
-}
-
 std::string format_ms(double ms) {
   char text[32];
   std::snprintf(text, sizeof text, ms >= 100 ? "%.0f" : "%.1f", ms);
@@ -79,9 +59,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", opt->path, "The octree (.svo)")->required();
   auto* window = cmd->add_option_group("Window");
   window->add_option("--width", opt->width, "Window width in pixels")->default_val(800)->check(CLI::Range(16, 8192));
-  window->add_option("--height", opt->height, "Window height in pixels")
-      ->default_val(600)
-      ->check(CLI::Range(16, 8192));
+  window->add_option("--height", opt->height, "Window height in pixels")->default_val(600)->check(CLI::Range(16, 8192));
   window
       ->add_option("--scale", opt->scale,
                    "Render at this fraction of the window size and stretch it (default: 1 on a GPU, 0.5 on a CPU "
@@ -96,9 +74,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"prefiltered", "nearest", "alpha", "mip"}));
   view->add_flag("--shadows", opt->shadows, "Start with shadow cones on");
   auto* run = cmd->add_option_group("Run");
-  run->add_option("--device", opt->device,
-                  "Vulkan device: index or name substring (default: the best device that can present; see svo devices)");
-  run->add_flag("--validate", opt->validate, "Enable the Khronos validation layer; any message ends the viewer with exit 1");
+  run->add_option(
+      "--device", opt->device,
+      "Vulkan device: index or name substring (default: the best device that can present; see svo devices)");
+  run->add_flag("--validate", opt->validate,
+                "Enable the Khronos validation layer; any message ends the viewer with exit 1");
   run->add_option("--frames", opt->frames, "Render this many frames, then exit 0 (for tests; default 0: until closed)")
       ->check(CLI::Range(0, 1000000));
   run->add_option("--screenshot", opt->screenshot, "On exit, write the last rendered frame here (.png or .exr)");
@@ -140,11 +120,15 @@ void add_view_command(CLI::App& app, int& exit_code) {
     Orbit orbit(render::view_preset(tree, opt->view, aspect), tree.size);
 
     render::Frame frame;
-    std::vector<uint8_t> pixels;
-    bool dirty = true, shown = false, focus = false;
+    settings.display = true;
+    auto pixels = [&frame] {  // the display pass's RGBA words as bytes (little-endian: R first)
+      return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(frame.display.data()), frame.display.size() * 4);
+    };
+    bool dirty = true, shown = false, focus = false, minimised = false;
     int frames = 0;
     while (true) {
-      Input in = win->poll(/*wait=*/!dirty && shown && opt->frames == 0);
+      // Block for events while there is nothing new to draw (or nowhere to draw it).
+      Input in = win->poll(/*wait=*/minimised || (!dirty && shown && opt->frames == 0));
       uint32_t win_width = 0, win_height = 0;
       win->window_size(win_width, win_height);
       bool quit = false;
@@ -170,8 +154,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
             break;
           case Window::kReset:
             win->framebuffer_size(fb_width, fb_height);
-            orbit = Orbit(render::view_preset(tree, "far", float(fb_width) / float(std::max(fb_height, 1u))),
-                          tree.size);
+            orbit =
+                Orbit(render::view_preset(tree, "far", float(fb_width) / float(std::max(fb_height, 1u))), tree.size);
             break;
           case Window::kFocus:
             focus = true;
@@ -185,9 +169,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
       if (in.scroll != 0) orbit.zoom(std::pow(0.85, in.scroll)), dirty = true;
 
       win->framebuffer_size(fb_width, fb_height);
-      if (fb_width == 0 || fb_height == 0) {  // minimised: wait for the window to come back
-        shown = true;
-        dirty = true;
+      minimised = fb_width == 0 || fb_height == 0;
+      if (minimised) {
+        dirty = true;  // redraw when the window comes back
         continue;
       }
       VkExtent2D extent = swapchain.extent();
@@ -219,12 +203,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
           }
         }
         focus = false;
-        to_srgb8(frame, pixels);
-        bool ok = swapchain.present(pixels, frame.width, frame.height);
+        bool ok = swapchain.present(pixels(), frame.width, frame.height);
         if (!ok) {
           win->framebuffer_size(fb_width, fb_height);
           swapchain.resize(fb_width, fb_height);
-          if (fb_width > 0 && fb_height > 0) swapchain.present(pixels, frame.width, frame.height);
+          if (fb_width > 0 && fb_height > 0) swapchain.present(pixels(), frame.width, frame.height);
         }
         check_validation();
         double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -239,7 +222,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
         ++frames;
         if (opt->frames > 0 && frames >= opt->frames) break;
       } else if (in.exposed) {
-        if (!swapchain.present(pixels, frame.width, frame.height)) dirty = true;
+        if (!swapchain.present(pixels(), frame.width, frame.height)) dirty = true;
         check_validation();
       }
     }

@@ -10,24 +10,20 @@
 
 #include "commands.h"
 #include "progress.h"
+#include "source_options.h"
 #include "svo/octree/svo_file.h"
 #include "svo/voxelizer/build.h"
-#include "svo/voxelizer/mesh.h"
-#include "svo/voxelizer/scenes.h"
 
 namespace svo::tools {
 
 namespace {
 
 struct VoxelizeArgs {
-  std::string input;
-  std::string scene;
+  SourceOptions source;
   std::string output;
   uint32_t resolution = 256;
   uint32_t brick = 8;
   double max_memory_mb = 0;
-  std::vector<float> colour;
-  float roughness = -1;
   bool json = false;
 };
 
@@ -55,12 +51,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
   auto* cmd =
       app.add_subcommand("voxelize", "Build a pre-filtered sparse voxel octree from a mesh or a built-in scene");
   auto a = std::make_shared<VoxelizeArgs>();
-  auto* input = cmd->add_option("input", a->input, "Mesh file: OBJ, PLY, OFF or STL")->group("Input");
-  auto* scene =
-      cmd->add_option("--scene", a->scene,
-                      "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, grooved-cylinder")
-          ->group("Input");
-  input->excludes(scene);
+  add_source_options(*cmd, a->source);
   cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed)")
       ->required()
       ->group("Output");
@@ -72,15 +63,6 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       ->default_val(8)
       ->check(CLI::IsMember({4u, 8u, 16u}))
       ->group("Octree");
-  cmd->add_option("--colour", a->colour, "Constant colour R,G,B in [0, 1] for meshes without colours")
-      ->delimiter(',')
-      ->expected(3)
-      ->check(CLI::Range(0.0f, 1.0f))
-      ->group("Appearance");
-  cmd->add_option("--roughness", a->roughness,
-                  "Micro-BRDF slope deviation sigma_rho (default: the OBJ material's Pr or Ns, else 0.1)")
-      ->check(CLI::Range(0.0f, 4.0f))
-      ->group("Appearance");
   cmd->add_option("--max-memory", a->max_memory_mb,
                   "Refuse to start above this estimated memory, MiB (default: available memory)")
       ->check(CLI::PositiveNumber)
@@ -88,18 +70,13 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
   cmd->callback([a, &exit_code] {
-    if (a->input.empty() == a->scene.empty()) throw std::invalid_argument("voxelize: give a mesh file or --scene NAME");
+    check_source_options(a->source, "voxelize");
     std::unique_ptr<voxelizer::SurfaceSource> source;
-    std::string what = a->input.empty() ? "scene " + a->scene : a->input;
-    if (!a->scene.empty()) {
-      auto s = voxelizer::make_scene(a->scene);
-      if (a->roughness >= 0) s->set_sigma_rho2(a->roughness * a->roughness);
-      source = std::move(s);
+    const std::string what = source_name(a->source);
+    if (!a->source.scene.empty()) {
+      source = make_scene_source(a->source);
     } else {
-      voxelizer::MeshOptions mesh_options;
-      if (a->colour.size() == 3) mesh_options.colour = glm::vec3(a->colour[0], a->colour[1], a->colour[2]);
-      if (a->roughness >= 0) mesh_options.sigma_rho = a->roughness;
-      source = voxelizer::load_mesh(a->input, mesh_options);
+      source = voxelizer::load_mesh(a->source.input, mesh_options(a->source));
     }
     // Refuse an output that cannot be written before minutes of work, not after.
     std::filesystem::path out_dir = std::filesystem::absolute(a->output).parent_path();

@@ -11,9 +11,12 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "svo 0.1.0");
   int exit_code = 0;
+  svo::tools::add_bench_command(app, exit_code);
+  svo::tools::add_compare_command(app, exit_code);
   svo::tools::add_demo_command(app, exit_code);
   svo::tools::add_devices_command(app, exit_code);
   svo::tools::add_info_command(app, exit_code);
+  svo::tools::add_reference_command(app, exit_code);
   svo::tools::add_render_command(app, exit_code);
   svo::tools::add_selftest_command(app, exit_code);
   svo::tools::add_view_command(app, exit_code);

@@ -4,12 +4,11 @@
 // scale, not to the scale.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vec3.hpp>
-
-#include <algorithm>
-#include <cmath>
 
 #include "svo/render/renderer.h"
 

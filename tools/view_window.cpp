@@ -26,8 +26,8 @@ Window::Window(const std::string& title, int width, int height) {
   }
   if (!glfwVulkanSupported()) {
     glfwTerminate();
-    throw std::runtime_error("cannot open a window: GLFW finds no Vulkan loader with surface support (" +
-                             g_glfw_error + ")");
+    throw std::runtime_error("cannot open a window: GLFW finds no Vulkan loader with surface support (" + g_glfw_error +
+                             ")");
   }
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
   window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);

@@ -100,9 +100,8 @@ namespace {
 // holds heights within +-s sqrt(3)/2, so sigma_h <= s.
 float height_scale(const Octree& tree, uint32_t depth) { return tree.voxel_size(depth); }
 
-uint8_t* sample_ptr(Octree& tree, size_t c, uint64_t brick, uint32_t sample) {
-  uint32_t bytes = encoding_bytes(tree.channels[c].encoding);
-  return tree.brick_data[c].data() + (brick * tree.samples_per_brick() + sample) * bytes;
+uint8_t* pool_ptr(Octree& tree, size_t c, uint64_t pool_sample) {
+  return tree.brick_data[c].data() + pool_sample * encoding_bytes(tree.channels[c].encoding);
 }
 
 const uint8_t* sample_ptr(const Octree& tree, size_t c, uint64_t brick, uint32_t sample) {
@@ -110,14 +109,38 @@ const uint8_t* sample_ptr(const Octree& tree, size_t c, uint64_t brick, uint32_t
   return tree.brick_data[c].data() + (brick * tree.samples_per_brick() + sample) * bytes;
 }
 
+// The file allows at most 16 channels, one per Channel value (7 today).
+constexpr size_t kMaxSampleChannels = 16;
+
 void put3(uint8_t* p, uint32_t a, uint32_t b, uint32_t c) { p[0] = uint8_t(a), p[1] = uint8_t(b), p[2] = uint8_t(c); }
 
 }  // namespace
 
+bool on_upper_boundary(uint32_t depth, glm::ivec3 c) {
+  const int last = (1 << depth) - 1;
+  return c.x == last || c.y == last || c.z == last;
+}
+
+uint32_t shell_index(uint32_t brick_size, glm::ivec3 l) {
+  const uint32_t B = brick_size;
+  // Layers z < B hold B points with x = B (rows y < B) and the row y = B;
+  // the layer z = B is whole.
+  if (uint32_t(l.z) < B) return uint32_t(l.z) * (2 * B + 1) + (uint32_t(l.y) < B ? uint32_t(l.y) : B + uint32_t(l.x));
+  return B * (2 * B + 1) + uint32_t(l.y) * (B + 1) + uint32_t(l.x);
+}
+
+uint64_t Octree::shell_sample(uint64_t b, glm::ivec3 l) const {
+  return brick_count * samples_per_brick() + b * shell_samples() + shell_index(brick_size, l);
+}
+
 void encode_voxel(Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth, const Voxel& v) {
+  encode_pool_voxel(tree, tree.brick_sample(brick, sample), depth, v);
+}
+
+void encode_pool_voxel(Octree& tree, uint64_t pool_sample, uint32_t depth, const Voxel& v) {
   using namespace svo::math;
   for (size_t c = 0; c < tree.channels.size(); ++c) {
-    uint8_t* p = sample_ptr(tree, c, brick, sample);
+    uint8_t* p = pool_ptr(tree, c, pool_sample);
     const ChannelInfo& info = tree.channels[c];
     switch (info.encoding) {
       case Encoding::F32: {
@@ -155,12 +178,12 @@ void encode_voxel(Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth,
   }
 }
 
-Voxel decode_voxel(const Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth) {
+Voxel decode_sample(const Octree& tree, std::span<const uint8_t* const> samples, uint32_t depth) {
   using namespace svo::math;
   Voxel v;
   v.abar = tree.constant_colour;
-  for (size_t c = 0; c < tree.channels.size(); ++c) {
-    const uint8_t* p = sample_ptr(tree, c, brick, sample);
+  for (size_t c = 0; c < std::min(tree.channels.size(), samples.size()); ++c) {
+    const uint8_t* p = samples[c];
     const ChannelInfo& info = tree.channels[c];
     switch (info.encoding) {
       case Encoding::F32: {
@@ -196,6 +219,13 @@ Voxel decode_voxel(const Octree& tree, uint64_t brick, uint32_t sample, uint32_t
     }
   }
   return v;
+}
+
+Voxel decode_voxel(const Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth) {
+  const uint8_t* samples[kMaxSampleChannels];
+  const size_t n = std::min(tree.channels.size(), kMaxSampleChannels);
+  for (size_t c = 0; c < n; ++c) samples[c] = sample_ptr(tree, c, brick, sample);
+  return decode_sample(tree, {samples, n}, depth);
 }
 
 }  // namespace svo::octree

@@ -39,7 +39,7 @@ void encode_header(const Header& h, uint8_t* out) {
   put_f32(out + at::sigma_rho2, h.sigma_rho2);
   for (int i = 0; i < 3; ++i) put_f32(out + at::constant_colour + 4 * i, h.constant_colour[i]);
   put_u32(out + at::channel_count, h.channel_count);
-  put_u32(out + at::reserved, h.reserved);
+  put_u32(out + at::shell_count, h.shell_count);
   put_u64(out + at::node_count, h.node_count);
   put_u64(out + at::brick_count, h.brick_count);
   put_u64(out + at::channel_table, h.channel_table_offset);
@@ -61,7 +61,7 @@ Header decode_header(const uint8_t* in) {
   h.sigma_rho2 = get_f32(in + at::sigma_rho2);
   for (int i = 0; i < 3; ++i) h.constant_colour[i] = get_f32(in + at::constant_colour + 4 * i);
   h.channel_count = get_u32(in + at::channel_count);
-  h.reserved = get_u32(in + at::reserved);
+  h.shell_count = get_u32(in + at::shell_count);
   h.node_count = get_u64(in + at::node_count);
   h.brick_count = get_u64(in + at::brick_count);
   h.channel_table_offset = get_u64(in + at::channel_table);
@@ -101,7 +101,7 @@ Layout plan_layout(const Octree& tree) {
   uint64_t end = l.node_table + kNodeBytes * tree.nodes.size();
   for (const ChannelInfo& c : tree.channels) {
     l.data_offset.push_back(align_up(end, kDataAlign));
-    l.data_bytes.push_back(tree.brick_count * tree.samples_per_brick() * encoding_bytes(c.encoding));
+    l.data_bytes.push_back(tree.pool_samples() * encoding_bytes(c.encoding));
     end = l.data_offset.back() + l.data_bytes.back();
   }
   l.file_bytes = end;
@@ -159,7 +159,8 @@ std::string check_shape(const Octree& t) {
   return {};
 }
 
-std::string check_tree(std::span<const uint32_t> first, std::span<const Node> nodes, uint64_t brick_count) {
+std::string check_tree(std::span<const uint32_t> first, std::span<const Node> nodes, uint64_t brick_count,
+                       uint64_t shell_count) {
   auto u = [](uint64_t v) { return std::to_string(v); };
   size_t depth_count = first.size() - 1;
   if (first[0] != 0 || first[1] != 1) {
@@ -177,8 +178,13 @@ std::string check_tree(std::span<const uint32_t> first, std::span<const Node> no
   if (brick_count > nodes.size()) {
     return "brick_count " + u(brick_count) + " exceeds node count " + u(nodes.size());
   }
+  if (shell_count > brick_count) {
+    return "shell_count " + u(shell_count) + " exceeds brick_count " + u(brick_count);
+  }
   std::vector<uint8_t> tile_used((nodes.size() - 1) / 8, 0);
   std::vector<uint8_t> brick_used(brick_count, 0);
+  // Node coordinates, parents before children (tiles have one parent each, checked before use).
+  std::vector<glm::ivec3> coords(nodes.size(), glm::ivec3(0));
   for (size_t d = 0; d < depth_count; ++d) {
     uint64_t lo = d + 1 < depth_count ? first[d + 1] : 0, hi = d + 1 < depth_count ? first[d + 2] : 0;
     for (uint64_t i = first[d]; i < first[d + 1]; ++i) {
@@ -192,6 +198,9 @@ std::string check_tree(std::span<const uint32_t> first, std::span<const Node> no
         uint8_t& used = tile_used[(n.children - 1) / 8];
         if (used) return where + ": children " + u(n.children) + " already belong to another node";
         used = 1;
+        for (uint32_t k = 0; k < 8; ++k) {
+          coords[n.children + k] = coords[i] * 2 + glm::ivec3(int(k & 1), int((k >> 1) & 1), int((k >> 2) & 1));
+        }
       }
       if (n.brick != kNone) {
         if (n.brick >= brick_count) {
@@ -199,6 +208,15 @@ std::string check_tree(std::span<const uint32_t> first, std::span<const Node> no
         }
         if (brick_used[n.brick]) return where + ": brick " + u(n.brick) + " already belongs to another node";
         brick_used[n.brick] = 1;
+        const bool boundary = on_upper_boundary(uint32_t(d), coords[i]);
+        if (boundary != (n.brick < shell_count)) {
+          return where + ": brick " + u(n.brick) +
+                 (boundary ? " lies on the domain's upper boundary, so it needs a shell, but shell_count is "
+                           : " has a shell (shell_count is ") +
+                 u(shell_count) +
+                 (boundary ? " (bricks with shells come first)"
+                           : ") but the node is not on the domain's upper boundary");
+        }
       }
     }
   }

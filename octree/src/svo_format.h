@@ -13,7 +13,9 @@
 namespace svo::octree::format {
 
 inline constexpr char kMagic[8] = {'S', 'V', 'O', 'C', 'T', 'R', 'E', 'E'};
-inline constexpr uint32_t kVersion = 1;
+// Version 2 (B^3 samples per brick, faces not duplicated) replaced version 1
+// ((B + 1)^3 samples per brick); this build reads version 2 only.
+inline constexpr uint32_t kVersion = 2;
 inline constexpr uint64_t kHeaderBytes = 128;
 inline constexpr uint64_t kChannelEntryBytes = 32;
 inline constexpr uint64_t kNodeBytes = 8;
@@ -27,7 +29,7 @@ inline constexpr uint32_t kMinBrickSize = 2, kMaxBrickSize = 32;
 // Byte offsets of the header fields (svo_file.h).
 namespace at {
 inline constexpr size_t magic = 0, version = 8, header_bytes = 12, brick_size = 16, depth_count = 20, origin = 24,
-                        size = 36, sigma_rho2 = 40, constant_colour = 44, channel_count = 56, reserved = 60,
+                        size = 36, sigma_rho2 = 40, constant_colour = 44, channel_count = 56, shell_count = 60,
                         node_count = 64, brick_count = 72, channel_table = 80, depth_table = 88, node_table = 96,
                         file_bytes = 104, payload_checksum = 112, header_checksum = 120;
 }  // namespace at
@@ -42,7 +44,7 @@ struct Header {
   float sigma_rho2 = 0;
   float constant_colour[3] = {0, 0, 0};
   uint32_t channel_count = 0;
-  uint32_t reserved = 0;
+  uint32_t shell_count = 0;
   uint64_t node_count = 0;
   uint64_t brick_count = 0;
   uint64_t channel_table_offset = 0;
@@ -97,10 +99,12 @@ Layout plan_layout(const Octree& tree);
 std::string check_shape(const Octree& shape);
 
 // The tree rules of svo_file.h for a depth table of depth_count + 1 entries
-// (already checked by check_shape to be sane) and the node array. Linear in
-// nodes + brick_count; brick_count <= nodes.size() is required. Returns "" or
-// what is wrong.
-std::string check_tree(std::span<const uint32_t> depth_first_node, std::span<const Node> nodes, uint64_t brick_count);
+// (already checked by check_shape to be sane) and the node array, including
+// the shell rule (the bricks of nodes on the domain's upper boundary are
+// exactly 0 .. shell_count - 1). Linear in nodes + brick_count; shell_count
+// <= brick_count <= nodes.size() is required. Returns "" or what is wrong.
+std::string check_tree(std::span<const uint32_t> depth_first_node, std::span<const Node> nodes, uint64_t brick_count,
+                       uint64_t shell_count);
 
 // Printing helpers for messages.
 std::string str(float v);

@@ -67,8 +67,12 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     fail("not an .svo file (magic is '" + printable(p, 8) + "', expected 'SVOCTREE')");
   }
   Header h = decode_header(p);
-  if (h.version != kVersion) fail("unsupported version " + u(h.version) + " (this build reads version 1)");
-  if (h.header_bytes != kHeaderBytes) fail("header_bytes is " + u(h.header_bytes) + " (version 1 has 128)");
+  if (h.version != kVersion) {
+    fail("unsupported version " + u(h.version) + " (this build reads version " + u(kVersion) + ")");
+  }
+  if (h.header_bytes != kHeaderBytes) {
+    fail("header_bytes is " + u(h.header_bytes) + " (version " + u(kVersion) + " has 128)");
+  }
   uint64_t header_sum = checksum(bytes.first(at::header_checksum));
   if (header_sum != h.header_checksum) {
     fail("corrupt header: checksum is " + u(header_sum) + ", header records " + u(h.header_checksum));
@@ -82,14 +86,18 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
   shape_.sigma_rho2 = h.sigma_rho2;
   shape_.constant_colour = {h.constant_colour[0], h.constant_colour[1], h.constant_colour[2]};
   if (h.channel_count > kMaxChannels) fail("channel_count is " + u(h.channel_count) + " (at most 16)");
-  if (h.reserved != 0) fail("reserved header field is " + u(h.reserved) + " (must be 0)");
+
   if (h.node_count < 1 || h.node_count >= kNone) {
     fail("node_count is " + u(h.node_count) + " (must be in [1, 2^32 - 1))");
   }
   if (h.brick_count > h.node_count) {
     fail("brick_count " + u(h.brick_count) + " exceeds node_count " + u(h.node_count));
   }
+  if (h.shell_count > h.brick_count) {
+    fail("shell_count " + u(h.shell_count) + " exceeds brick_count " + u(h.brick_count));
+  }
   shape_.brick_count = h.brick_count;
+  shape_.shell_count = h.shell_count;
 
   uint64_t end = check_section(name_, n, "channel table", h.channel_table_offset, h.channel_count, kChannelEntryBytes,
                                kHeaderBytes, kTableAlign);
@@ -102,7 +110,8 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
 
   end = check_section(name_, n, "depth table", h.depth_table_offset, uint64_t(h.depth_count) + 1, 4, end, kTableAlign);
   end = check_section(name_, n, "node table", h.node_table_offset, h.node_count, kNodeBytes, end, kDataAlign);
-  const uint64_t samples = shape_.samples_per_brick();  // brick_size <= 32: at most 35937
+  // brick_size <= 32: at most 32768 + 3169 samples per brick, so no overflow below.
+  const uint64_t samples = shape_.pool_samples();
   for (size_t c = 0; c < entries.size(); ++c) {
     const ChannelEntry& e = entries[c];
     std::string label = channel_label(c, shape_.channels[c]);
@@ -112,10 +121,11 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
            encoding_name(shape_.channels[c].encoding) + " has " + u(sample_bytes));
     }
     if (e.reserved != 0) fail(label + ": reserved field is " + u(e.reserved) + " (must be 0)");
-    uint64_t expected = h.brick_count * samples * sample_bytes;  // < 2^32 * 2^16 * 4: no overflow
+    uint64_t expected = samples * sample_bytes;  // < 2^32 * 2^16 * 4: no overflow
     if (e.data_bytes != expected) {
-      fail(label + ": data_bytes is " + u(e.data_bytes) + ", expected brick_count * samples_per_brick * " +
-           u(sample_bytes) + " = " + u(expected));
+      fail(label + ": data_bytes is " + u(e.data_bytes) +
+           ", expected (brick_count * samples_per_brick + shell_count * shell_samples) * " + u(sample_bytes) + " = " +
+           u(expected));
     }
     end = check_section(name_, n, label + " brick data", e.data_offset, e.data_bytes, 1, end, kDataAlign);
     brick_data_.push_back(bytes.subspan(e.data_offset, e.data_bytes));
@@ -133,7 +143,9 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     shape_.depth_first_node.push_back(get_u32(p + h.depth_table_offset + 4 * d));
   }
   nodes_ = {reinterpret_cast<const Node*>(p + h.node_table_offset), size_t(h.node_count)};
-  if (std::string why = check_tree(shape_.depth_first_node, nodes_, h.brick_count); !why.empty()) fail(why);
+  if (std::string why = check_tree(shape_.depth_first_node, nodes_, h.brick_count, h.shell_count); !why.empty()) {
+    fail(why);
+  }
 }
 
 std::span<const uint8_t> SvoView::brick(size_t c, uint64_t b) const {

@@ -130,18 +130,21 @@ void validate_octree(const Octree& t) {
     fail("brick_data has " + std::to_string(t.brick_data.size()) + " pools for " + std::to_string(t.channels.size()) +
          " channels");
   }
-  if (t.nodes.size() >= kNone || t.brick_count > t.nodes.size()) {
-    fail(std::to_string(t.nodes.size()) + " nodes and " + std::to_string(t.brick_count) +
-         " bricks (need nodes < 2^32 - 1 and bricks <= nodes)");
+  if (t.nodes.size() >= kNone || t.brick_count > t.nodes.size() || t.shell_count > t.brick_count) {
+    fail(std::to_string(t.nodes.size()) + " nodes, " + std::to_string(t.brick_count) + " bricks and " +
+         std::to_string(t.shell_count) + " shells (need nodes < 2^32 - 1 and shells <= bricks <= nodes)");
   }
   for (size_t c = 0; c < t.channels.size(); ++c) {
-    uint64_t expected = t.brick_count * t.samples_per_brick() * encoding_bytes(t.channels[c].encoding);
+    uint64_t expected = t.pool_samples() * encoding_bytes(t.channels[c].encoding);
     if (t.brick_data[c].size() != expected) {
       fail(channel_label(c, t.channels[c]) + ": brick_data has " + std::to_string(t.brick_data[c].size()) +
-           " bytes, brick_count * samples_per_brick * bytes = " + std::to_string(expected));
+           " bytes, (brick_count * samples_per_brick + shell_count * shell_samples) * bytes = " +
+           std::to_string(expected));
     }
   }
-  if (std::string why = check_tree(t.depth_first_node, t.nodes, t.brick_count); !why.empty()) fail(why);
+  if (std::string why = check_tree(t.depth_first_node, t.nodes, t.brick_count, t.shell_count); !why.empty()) {
+    fail(why);
+  }
 }
 
 void write_svo(const std::string& path, const Octree& tree) {
@@ -185,6 +188,7 @@ void write_svo(const std::string& path, const Octree& tree) {
   h.channel_count = uint32_t(tree.channels.size());
   h.node_count = tree.nodes.size();
   h.brick_count = tree.brick_count;
+  h.shell_count = uint32_t(tree.shell_count);
   h.channel_table_offset = layout.channel_table;
   h.depth_table_offset = layout.depth_table;
   h.node_table_offset = layout.node_table;

@@ -1,12 +1,18 @@
 #include "trace_setup.h"
 
-#include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <cstring>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+
+#include "svo/octree/sampler.h"
 
 namespace svo::render {
 
@@ -33,12 +39,14 @@ const char* mode_name(Mode mode) {
       return "alpha";
     case Mode::Mip:
       return "mip";
+    case Mode::RayMarch:
+      return "raymarch";
   }
   return "unknown";
 }
 
 std::optional<Mode> parse_mode(std::string_view name) {
-  for (Mode m : {Mode::Prefiltered, Mode::Nearest, Mode::Alpha, Mode::Mip}) {
+  for (Mode m : {Mode::Prefiltered, Mode::Nearest, Mode::Alpha, Mode::Mip, Mode::RayMarch}) {
     if (name == mode_name(m)) return m;
   }
   return std::nullopt;
@@ -51,7 +59,7 @@ PackedOctree pack_octree(const octree::Octree& tree) {
   if (tree.channel_index(Channel::Distance) < 0) throw std::invalid_argument("the octree has no distance channel");
   p.nodes.resize(tree.nodes.size());
   for (size_t i = 0; i < tree.nodes.size(); ++i) p.nodes[i] = {tree.nodes[i].children, tree.nodes[i].brick};
-  const uint32_t samples = tree.samples_per_brick();
+  const uint32_t edge = tree.samples_per_edge_with_faces(), samples = edge * edge * edge;  // per pool brick
   std::vector<uint32_t> offset(tree.channels.size());
   uint32_t bytes = 0;
   p.offsets_a = p.offsets_b = glm::uvec4(svo::math::SVO_ABSENT);
@@ -88,20 +96,47 @@ PackedOctree pack_octree(const octree::Octree& tree) {
   p.brick_bytes = bytes;
   p.brick_count = tree.brick_count;
   p.bricks.assign(size_t(p.brick_count) * p.brick_bytes + 4, 0);
-  for (size_t c = 0; c < tree.channels.size(); ++c) {
-    const uint32_t size = octree::encoding_bytes(tree.channels[c].encoding);
-    const uint32_t stride = pool_stride(tree.channels[c].encoding);
-    const size_t channel_bytes = size_t(samples) * size;
-    for (uint64_t b = 0; b < p.brick_count; ++b) {
-      const uint8_t* from = tree.brick_data[c].data() + b * channel_bytes;
-      uint8_t* to = p.bricks.data() + b * p.brick_bytes + offset[c];
-      if (stride == size) {
-        std::memcpy(to, from, channel_bytes);
-      } else {
-        for (uint32_t i = 0; i < samples; ++i) std::memcpy(to + i * stride, from + i * size, size);
+  // The file stores B^3 samples per brick; the pool keeps (B + 1)^3, the
+  // upper faces copied from the neighbouring bricks (encoded bytes, exact) or
+  // reconstructed where those are absent (octree.h, sampler.h).
+  const octree::BrickFaces faces(tree);
+  tbb::enumerable_thread_specific<std::vector<octree::LatticeSource>> plans;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.nodes.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<octree::LatticeSource>& plan = plans.local();
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const uint32_t b = tree.nodes[n].brick;
+      if (b == octree::kNone) continue;
+      faces.plan(uint32_t(n), plan);
+      for (size_t c = 0; c < tree.channels.size(); ++c) {
+        const uint32_t size = octree::encoding_bytes(tree.channels[c].encoding);
+        const uint32_t stride = pool_stride(tree.channels[c].encoding);
+        const bool distance = tree.channels[c].channel == Channel::Distance;
+        const uint8_t* from = tree.brick_data[c].data();
+        uint8_t* to = p.bricks.data() + size_t(b) * p.brick_bytes + offset[c];
+        // Stored samples are copied; the reconstructed distances computed.
+        auto copy = [&](auto bytes) {
+          for (uint32_t i = 0; i < samples; ++i) {
+            if (distance && plan[i].axes != 0) {
+              octree::source_bytes(tree, c, plan[i], to + size_t(i) * stride);
+            } else {
+              std::memcpy(to + size_t(i) * stride, from + plan[i].sample * bytes.value, bytes.value);
+            }
+          }
+        };
+        switch (size) {
+          case 1:
+            copy(std::integral_constant<uint32_t, 1>());
+            break;
+          case 3:
+            copy(std::integral_constant<uint32_t, 3>());
+            break;
+          default:
+            copy(std::integral_constant<uint32_t, 4>());
+            break;
+        }
       }
     }
-  }
+  });
   return p;
 }
 
@@ -133,7 +168,11 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   p.cam_u = glm::vec4(u * tan_half * aspect, 0);
   p.cam_v = glm::vec4(v * tan_half, 0);
   p.cam_w = glm::vec4(w, c.aperture);
-  p.lens = glm::vec4(c.focus, 0, 0, 0);
+  const uint32_t root = uint32_t(std::lround(std::sqrt(double(s.spp))));
+  if (s.spp == 0 || root * root != s.spp || s.spp > 4096) {
+    throw std::invalid_argument("rays per pixel must be a square in [1, 4096], got " + std::to_string(s.spp));
+  }
+  p.lens = glm::vec4(c.focus, float(s.spp), 0, 0);
   p.domain = glm::vec4(tree.origin, tree.size);
   p.material = glm::vec4(tree.sigma_rho2, s.specular, tree.voxel_size(tree.depth_count - 1), 0);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);

@@ -30,7 +30,12 @@ struct PackedOctree {
   glm::uvec4 offsets_a{0}, offsets_b{0}, encodings{0};
 };
 
-// Throws std::invalid_argument when the octree lacks the distance channel.
+// Each pool brick holds the (B + 1)^3 lattice points of its node, x fastest
+// (the tracer interpolates inside a node from its brick alone): the B^3 that
+// the file stores plus the upper faces, copied from the neighbouring bricks or
+// reconstructed where those are absent (octree::BrickFaces). Expects a valid
+// octree (validate_octree); throws std::invalid_argument when it lacks the
+// distance channel.
 PackedOctree pack_octree(const octree::Octree& tree);
 
 // Validates `settings` (throws std::invalid_argument naming the problem) and

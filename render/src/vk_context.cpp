@@ -119,7 +119,8 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& want
   }
   for (const std::string& name : wanted) {
     if (!has_instance_extension(name)) {
-      throw Error("Vulkan: instance extension " + name + " is not available (the driver cannot present to this display)");
+      throw Error("Vulkan: instance extension " + name +
+                  " is not available (the driver cannot present to this display)");
     }
     if (std::none_of(extensions.begin(), extensions.end(), [&](const char* e) { return name == e; })) {
       extensions.push_back(name.c_str());

@@ -60,9 +60,16 @@ std::vector<Tap> taps(uint32_t n, uint32_t m) {
   return t;
 }
 
-// `src` (w x h RGBA) stretched to `dst` (W x H, 4 bytes a pixel, BGRA when
-// `bgra`), bilinear; alpha 255 (the window is opaque).
-void stretch(std::span<const uint8_t> src, uint32_t w, uint32_t h, uint8_t* dst, uint32_t W, uint32_t H, bool bgra) {
+}  // namespace
+
+void stretch_rgba8(std::span<const uint8_t> src, uint32_t w, uint32_t h, std::span<uint8_t> out, uint32_t W, uint32_t H,
+                   bool bgra) {
+  if (w == 0 || h == 0 || W == 0 || H == 0 || src.size() != size_t(w) * h * 4 || out.size() != size_t(W) * H * 4) {
+    throw std::invalid_argument("stretch_rgba8: " + std::to_string(src.size()) + " bytes for " + std::to_string(w) +
+                                " x " + std::to_string(h) + " pixels to " + std::to_string(out.size()) + " bytes for " +
+                                std::to_string(W) + " x " + std::to_string(H));
+  }
+  uint8_t* dst = out.data();
   const int order[3] = {bgra ? 2 : 0, 1, bgra ? 0 : 2};  // destination byte c takes source channel order[c]
   if (w == W && h == H) {
     for (size_t p = 0; p < size_t(w) * h; ++p) {
@@ -76,21 +83,19 @@ void stretch(std::span<const uint8_t> src, uint32_t w, uint32_t h, uint8_t* dst,
     const uint8_t* row0 = src.data() + size_t(ys[y].i0) * w * 4;
     const uint8_t* row1 = src.data() + size_t(ys[y].i1) * w * 4;
     float wy = ys[y].w1;
-    uint8_t* out = dst + size_t(y) * W * 4;
+    uint8_t* row = dst + size_t(y) * W * 4;
     for (uint32_t x = 0; x < W; ++x) {
       const Tap& t = xs[x];
-      out[4 * x + 3] = 255;
+      row[4 * x + 3] = 255;
       for (int c = 0; c < 3; ++c) {
         size_t k = size_t(order[c]);
         float top = float(row0[4 * t.i0 + k]) + t.w1 * (float(row0[4 * t.i1 + k]) - float(row0[4 * t.i0 + k]));
         float bottom = float(row1[4 * t.i0 + k]) + t.w1 * (float(row1[4 * t.i1 + k]) - float(row1[4 * t.i0 + k]));
-        out[4 * x + uint32_t(c)] = uint8_t(top + wy * (bottom - top) + 0.5f);
+        row[4 * x + uint32_t(c)] = uint8_t(top + wy * (bottom - top) + 0.5f);
       }
     }
   }
 }
-
-}  // namespace
 
 Swapchain::Swapchain(Context& context, uint32_t width, uint32_t height) : context_(context) {
   if (!context.surface()) throw Error("Vulkan: a swapchain needs a Context made with a surface");
@@ -258,7 +263,7 @@ bool Swapchain::present(std::span<const uint8_t> rgba, uint32_t width, uint32_t 
   if (acquired != VK_SUBOPTIMAL_KHR) SVO_VK_CHECK(acquired);
 
   ensure_staging(VkDeviceSize(extent_.width) * extent_.height * 4);
-  stretch(rgba, width, height, staging_mapped_, extent_.width, extent_.height, bgra_);
+  stretch_rgba8(rgba, width, height, {staging_mapped_, size_t(staging_bytes_)}, extent_.width, extent_.height, bgra_);
 
   SVO_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};

@@ -13,6 +13,7 @@ SVO_CONST uint SVO_MODE_PREFILTERED = 0u;
 SVO_CONST uint SVO_MODE_NEAREST = 1u;
 SVO_CONST uint SVO_MODE_ALPHA = 2u;
 SVO_CONST uint SVO_MODE_MIP = 3u;
+SVO_CONST uint SVO_MODE_RAYMARCH = 4u;
 
 // Flags (image.w).
 SVO_CONST uint SVO_FLAG_SHADOWS = 1u;
@@ -36,7 +37,7 @@ struct SvoTraceParams {
   vec4 cam_u;      // xyz: right * tan(fov / 2) * aspect
   vec4 cam_v;      // xyz: up * tan(fov / 2)
   vec4 cam_w;      // xyz: unit view direction; w: lens radius (0: pinhole)
-  vec4 lens;       // x: focus distance
+  vec4 lens;       // x: focus distance; y: rays per pixel (raymarch mode, a square)
   vec4 domain;     // xyz: origin of the cube; w: its side
   vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size
   vec4 constant_colour;  // abar when the file has no colour

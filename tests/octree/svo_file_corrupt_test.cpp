@@ -114,7 +114,10 @@ TEST_F(SvoCorrupt, WrongMagicAndVersion) {
   bytes[0] = 'X';
   bytes[7] = 0;
   expect_rejected(bytes, "not an .svo file (magic is 'XVOCTRE\\x00', expected 'SVOCTREE')");
-  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 2); }, "unsupported version 2");
+  // Version 1 stored (B + 1)^3 samples per brick; this build reads version 2 only.
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 1); },
+                         "unsupported version 1 (this build reads version 2)");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 3); }, "unsupported version 3");
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 0); }, "unsupported version 0");
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::header_bytes, 64); }, "header_bytes is 64");
 }
@@ -138,7 +141,10 @@ TEST_F(SvoCorrupt, AbsurdHeaderValues) {
   expect_forged_rejected(u32(at::depth_count, 16), "finest resolution");  // 4 << 15 > 65536
   expect_forged_rejected(u32(at::channel_count, 17), "channel_count is 17");
   expect_forged_rejected(u32(at::channel_count, 0xFFFFFFFFu), "channel_count is 4294967295");
-  expect_forged_rejected(u32(at::reserved, 1), "reserved header field");
+  expect_forged_rejected(u32(at::shell_count, 10), "shell_count 10 exceeds brick_count 9");
+  // Sizes follow shell_count, so a wrong count fails there first; resized
+  // sections reach the tree rule (bricks on the upper boundary are 0 .. 3).
+  expect_forged_rejected(u32(at::shell_count, 3), "channel 0 (distance): data_bytes is 3280, expected");
   expect_forged_rejected(f32(at::origin + 4, NAN), "origin[1] is nan");
   expect_forged_rejected(f32(at::origin, INFINITY), "origin[0] is inf");
   expect_forged_rejected(f32(at::size, -1.0f), "size is -1");
@@ -162,12 +168,17 @@ TEST_F(SvoCorrupt, SectionsOutOfPlace) {
   expect_forged_rejected(u64(at::file_bytes, good_.size() + 1), "truncated: header records");
   expect_forged_rejected(u64(at::file_bytes, good_.size() - 1), "but its header records");
   expect_forged_rejected([](auto& b) { b.insert(b.end(), 64, 0); }, "but its header records");
-  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 3) + 16, far); },
-                         "channel 3 (slope_dev) brick data needs 1125 bytes at offset 1099511627776");
+  expect_forged_rejected(
+      [&](auto& b) { put_u64(channel(b, 3) + 16, far); },
+      "channel 3 (slope_dev) brick data needs 820 bytes at offset 1099511627776");  // 9 x 4^3 + 4 x 61
   expect_forged_rejected([&](auto& b) { put_u64(channel(b, 3) + 16, get_u32(channel(b, 2) + 16)); },
                          "channel 3 (slope_dev) brick data offset");
-  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 6) + 24, 3 * 125 * 9 + 3); },
-                         "channel 6 (colour_slope): data_bytes is 3378, expected");
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 6) + 24, 3 * 820 + 3); },
+                         "channel 6 (colour_slope): data_bytes is 2463, expected (brick_count * samples_per_brick + "
+                         "shell_count * shell_samples) * 3 = 2460");
+  // The version 1 size ((B + 1)^3 = 125 samples per brick) is wrong in version 2.
+  expect_forged_rejected([&](auto& b) { put_u64(channel(b, 6) + 24, 3 * 125 * 9); },
+                         "channel 6 (colour_slope): data_bytes is 3375, expected");
   expect_forged_rejected([&](auto& b) { put_u64(channel(b, 0) + 24, ~uint64_t(0)); }, "data_bytes is");
 }
 
@@ -208,6 +219,20 @@ TEST_F(SvoCorrupt, BadNodes) {
   expect_forged_rejected(brick(3, 9), "node 3 (depth 1): brick 9 out of range (brick_count 9)");
   expect_forged_rejected(brick(3, 0), "node 3 (depth 1): brick 0 already belongs to another node");
   expect_forged_rejected(brick(20, 0xFFFFFFFEu), "brick 4294967294 out of range");
+  // Shells belong to the bricks of nodes on the domain's upper boundary, numbered first.
+  expect_forged_rejected(
+      [&](auto& b) {
+        put_u32(node(b, 1) + 4, 3);   // node 1: coordinates (0, 0, 0) at depth 1
+        put_u32(node(b, 24) + 4, 7);  // node 24: (3, 3, 1) at depth 2
+      },
+      "node 1 (depth 1): brick 3 has a shell (shell_count is 4) but the node is not on the domain's upper boundary");
+  expect_forged_rejected(
+      [&](auto& b) {
+        put_u32(node(b, 1) + 4, kNone);
+        put_u32(node(b, 24) + 4, 7);
+      },
+      "node 24 (depth 2): brick 7 lies on the domain's upper boundary, so it needs a "
+      "shell, but shell_count is 4 (bricks with shells come first)");
 }
 
 // Random edits to the tables with the checksums recomputed: every outcome is

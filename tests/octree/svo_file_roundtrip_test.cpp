@@ -35,6 +35,7 @@ void expect_same_tree(const Octree& a, const Octree& b) {
     EXPECT_EQ(a.nodes[i].brick, b.nodes[i].brick) << "node " << i;
   }
   EXPECT_EQ(a.brick_count, b.brick_count);
+  EXPECT_EQ(a.shell_count, b.shell_count);
   ASSERT_EQ(a.brick_data.size(), b.brick_data.size());
   for (size_t c = 0; c < a.brick_data.size(); ++c) EXPECT_TRUE(a.brick_data[c] == b.brick_data[c]) << "channel " << c;
 }
@@ -69,6 +70,7 @@ TEST(SvoFile, MinimalTreesRoundTrip) {
 
   Octree no_bricks = make_test_tree();  // channels present, every pool empty
   no_bricks.brick_count = 0;
+  no_bricks.shell_count = 0;
   for (auto& n : no_bricks.nodes) n.brick = kNone;
   for (auto& pool : no_bricks.brick_data) pool.clear();
   write_svo(dir / "no_bricks.svo", no_bricks);

@@ -106,7 +106,24 @@ TEST(SvoWrite, InvalidTreeWritesNothing) {
   };
   Octree t = make_test_tree();
   t.brick_data[2].pop_back();
-  expect_invalid(t, "channel 2 (height_dev): brick_data has 1124 bytes");
+  expect_invalid(t,
+                 "channel 2 (height_dev): brick_data has 819 bytes, (brick_count * samples_per_brick + shell_count * "
+                 "shell_samples) * bytes = 820");
+  t = make_test_tree();
+  std::swap(t.nodes[1].brick, t.nodes[24].brick);  // node 24 lies on the upper boundary, node 1 inside
+  expect_invalid(t,
+                 "node 1 (depth 1): brick 3 has a shell (shell_count is 4) but the node is not on the domain's "
+                 "upper boundary");
+  t = make_test_tree();
+  t.shell_count = 5;
+  t.brick_data = make_test_tree().brick_data;
+  for (size_t c = 0; c < t.channels.size(); ++c) {
+    t.brick_data[c].resize(t.pool_samples() * encoding_bytes(t.channels[c].encoding));
+  }
+  expect_invalid(t, "brick 4 has a shell (shell_count is 5) but the node is not on the domain's upper boundary");
+  t = make_test_tree();
+  t.shell_count = 10;
+  expect_invalid(t, "9 bricks and 10 shells");
   t = make_test_tree();
   t.nodes[5].children = 9;
   expect_invalid(t, "node 5 (depth 1): children 9 already belong to another node");

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "svo_format.h"
+
 namespace svo::octree::testing {
 
 std::vector<ChannelInfo> all_encodings() {
@@ -38,8 +40,11 @@ Octree make_test_tree(uint64_t seed, uint32_t brick_size) {
   t.channels = all_encodings();
   t.depth_first_node = {0, 1, 9, 25};
   t.nodes.resize(25);
+  // Bricks 0-3 belong to nodes on the domain's upper boundary (the root;
+  // nodes 2 and 8 at depth 1, coordinates (1, 0, 0) and (1, 1, 1); node 24
+  // at depth 2, (3, 3, 1)) and carry shells; the others lie inside.
   t.nodes[0] = {1, 0};
-  t.nodes[1] = {9, 3};
+  t.nodes[1] = {9, 7};
   t.nodes[2].brick = 1;
   t.nodes[4] = {17, kNone};
   t.nodes[8].brick = 2;
@@ -47,10 +52,11 @@ Octree make_test_tree(uint64_t seed, uint32_t brick_size) {
   t.nodes[12].brick = 4;
   t.nodes[16].brick = 5;
   t.nodes[17].brick = 6;
-  t.nodes[24].brick = 7;
+  t.nodes[24].brick = 3;
   t.brick_count = 9;
+  t.shell_count = 4;
   for (size_t c = 0; c < t.channels.size(); ++c) {
-    t.brick_data.emplace_back(t.brick_count * t.samples_per_brick() * encoding_bytes(t.channels[c].encoding));
+    t.brick_data.emplace_back(t.pool_samples() * encoding_bytes(t.channels[c].encoding));
     fill_random(t.brick_data.back(), seed * 1000 + c);
   }
   return t;
@@ -68,12 +74,42 @@ Octree make_tiny_tree() {
   t.depth_first_node = {0, 1};
   t.nodes = {{kNone, 0}};
   t.brick_count = 1;
-  t.brick_data.emplace_back(t.samples_per_brick() * 4);
-  for (uint32_t i = 0; i < t.samples_per_brick(); ++i) {
+  t.shell_count = 1;  // the root lies on the domain's upper boundary
+  t.brick_data.emplace_back(t.pool_samples() * 4);
+  for (uint32_t i = 0; i < t.pool_samples(); ++i) {
     float v = 0.25f * float(i) - 1.0f;
     std::memcpy(t.brick_data[0].data() + 4 * i, &v, 4);
   }
   return t;
+}
+
+std::vector<uint8_t> tiny_version1_file() {
+  using namespace format;
+  const Octree t = make_tiny_tree();
+  std::vector<uint8_t> file(364, 0);
+  Header h;
+  h.version = 1;
+  h.brick_size = t.brick_size;
+  h.depth_count = t.depth_count;
+  for (int i = 0; i < 3; ++i) h.origin[i] = t.origin[i], h.constant_colour[i] = t.constant_colour[i];
+  h.size = t.size;
+  h.sigma_rho2 = t.sigma_rho2;
+  h.channel_count = 1;
+  h.node_count = 1;
+  h.brick_count = 1;
+  h.channel_table_offset = 128;
+  h.depth_table_offset = 160;
+  h.node_table_offset = 192;
+  h.file_bytes = 364;
+  encode_header(h, file.data());
+  encode_channel({uint32_t(Channel::Distance), uint32_t(Encoding::F32), 4, 0, 256, 27 * 4}, file.data() + 128);
+  put_u32(file.data() + 160, 0);
+  put_u32(file.data() + 164, 1);
+  put_u32(file.data() + 192, kNone);  // the root: no children, brick 0
+  put_u32(file.data() + 196, 0);
+  for (uint32_t i = 0; i < 27; ++i) put_f32(file.data() + 256 + 4 * i, 0.25f * float(i) - 1.0f);
+  seal(file);
+  return file;
 }
 
 std::vector<uint8_t> read_bytes(const std::filesystem::path& path) {

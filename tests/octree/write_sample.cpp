@@ -1,5 +1,6 @@
-// Test-only: writes DIR/sample.svo (testing::make_test_tree) and
-// DIR/sample_truncated.svo (its first half) for the `svo info` CLI tests.
+// Test-only: writes DIR/sample.svo (testing::make_test_tree),
+// DIR/sample_truncated.svo (its first half) and DIR/sample_v1.svo (a version
+// 1 file, testing::tiny_version1_file) for the `svo info` CLI tests.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
     auto bytes = svo::octree::testing::read_bytes(dir / "sample.svo");
     bytes.resize(bytes.size() / 2);
     svo::octree::testing::write_bytes(dir / "sample_truncated.svo", bytes);
+    svo::octree::testing::write_bytes(dir / "sample_v1.svo", svo::octree::testing::tiny_version1_file());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "write_sample: %s\n", e.what());
     return 1;

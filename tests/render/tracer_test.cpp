@@ -3,7 +3,9 @@
 // the analytic footprint coverage, and paper Fig. 4 on correlated elements.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "test_scenes.h"
 
@@ -48,20 +50,12 @@ TEST(Tracer, PlaneFacingTheCameraCoversExactlyTheExpectedPixels) {
   EXPECT_EQ(wrong, 0);
 }
 
-TEST(Tracer, SphereSilhouetteCoverageMatchesTheAnalyticFootprintCoverage) {
-  const float radius = 0.5f;
-  test::SphereScene sphere(radius);
-  octree::Octree tree = test::voxelize(sphere, 256);
-  RenderSettings s;
-  s.width = s.height = 64;
-  s.camera = test::looking_at_origin({0.3f, 0.4f, 3.0f}, 25.0f);
-  Frame f = render_cpu(tree, s);
-  test::save_for_inspection(f, "sphere");
-  // Analytic coverage of each pixel's footprint disk (radius pixel / sqrt(pi)):
-  // the fraction of rays through a fine grid of the disk that meet the sphere.
+// Exact coverage of each pixel's footprint disk (radius pixel / sqrt(pi)) by
+// a sphere at the origin: the fraction of rays through a fine grid of the
+// disk that meet it.
+std::vector<float> sphere_coverage(const RenderSettings& s, float radius) {
   const float r_px = 1.0f / std::sqrt(3.14159265f);
-  double sum = 0;
-  int silhouette = 0;
+  std::vector<float> exact(size_t(s.width) * s.height);
   for (uint32_t y = 0; y < s.height; ++y) {
     for (uint32_t x = 0; x < s.width; ++x) {
       int hits = 0, total = 0;
@@ -76,19 +70,70 @@ TEST(Tracer, SphereSilhouetteCoverageMatchesTheAnalyticFootprintCoverage) {
           ++total;
         }
       }
-      float exact = float(hits) / float(total);
-      if (exact > 0.0f && exact < 1.0f) {
-        sum += std::abs(coverage(f, x, y) - exact);
-        ++silhouette;
-      } else {
-        EXPECT_NEAR(coverage(f, x, y), exact, 0.15f) << "pixel " << x << "," << y;
-      }
+      exact[size_t(y) * s.width + x] = float(hits) / float(total);
     }
   }
-  ASSERT_GT(silhouette, 50);
-  double mean = sum / silhouette;
-  EXPECT_LT(mean, 0.03) << "mean absolute coverage error over " << silhouette << " silhouette pixels";
-  std::printf("sphere silhouette: %d pixels, mean absolute coverage error %.4f\n", silhouette, mean);
+  return exact;
+}
+
+struct CoverageError {
+  double silhouette_mean = 0;  // mean |coverage - exact| where 0 < exact < 1
+  int silhouette = 0;
+  double elsewhere_max = 0;  // largest |coverage - exact| elsewhere
+};
+
+CoverageError coverage_error(const Frame& f, const std::vector<float>& exact) {
+  CoverageError e;
+  for (size_t i = 0; i < exact.size(); ++i) {
+    double d = std::abs(f.colour[i].a - exact[i]);
+    if (exact[i] > 0.0f && exact[i] < 1.0f) {
+      e.silhouette_mean += d;
+      ++e.silhouette;
+    } else {
+      e.elsewhere_max = std::max(e.elsewhere_max, d);
+    }
+  }
+  e.silhouette_mean /= std::max(e.silhouette, 1);
+  return e;
+}
+
+TEST(Tracer, SphereSilhouetteCoverageMatchesTheAnalyticFootprintCoverage) {
+  const float radius = 0.5f;
+  test::SphereScene sphere(radius);
+  octree::Octree tree = test::voxelize(sphere, 256);
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.camera = test::looking_at_origin({0.3f, 0.4f, 3.0f}, 25.0f);
+  Frame f = render_cpu(tree, s);
+  test::save_for_inspection(f, "sphere");
+  CoverageError e = coverage_error(f, sphere_coverage(s, radius));
+  ASSERT_GT(e.silhouette, 50);
+  EXPECT_LT(e.silhouette_mean, 0.03) << "mean absolute coverage error over " << e.silhouette << " silhouette pixels";
+  EXPECT_LT(e.elsewhere_max, 0.15);
+  std::printf("sphere silhouette: %d pixels, mean absolute coverage error %.4f\n", e.silhouette, e.silhouette_mean);
+}
+
+// The supersampling baseline: one ray per pixel is all or nothing; 16
+// stratified rays approach the exact coverage.
+TEST(Tracer, RayMarchingIsBinaryPerRayAndConvergesWithRays) {
+  const float radius = 0.5f;
+  test::SphereScene sphere(radius);
+  octree::Octree tree = test::voxelize(sphere, 128);
+  RenderSettings s;
+  s.width = s.height = 48;
+  s.camera = test::looking_at_origin({0.3f, 0.4f, 3.0f}, 25.0f);
+  s.mode = Mode::RayMarch;
+  const std::vector<float> exact = sphere_coverage(s, radius);
+  Frame one = render_cpu(tree, s);
+  for (const auto& c : one.colour) ASSERT_TRUE(c.a == 0.0f || c.a == 1.0f) << c.a;
+  s.spp = 16;
+  Frame many = render_cpu(tree, s);
+  CoverageError e1 = coverage_error(one, exact), e16 = coverage_error(many, exact);
+  std::printf("raymarch silhouette error: 1 ray %.4f, 16 rays %.4f\n", e1.silhouette_mean, e16.silhouette_mean);
+  EXPECT_LT(e16.silhouette_mean, 0.06);
+  EXPECT_LT(e16.silhouette_mean, 0.5 * e1.silhouette_mean);
+  s.spp = 3;
+  EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
 }
 
 // Paper Fig. 4: the eye looks along the face x = 0 of a half-space, so the

@@ -1,7 +1,8 @@
 #!/bin/sh
 # svo view under Xvfb: two short runs (far prefiltered; close view, mip mode,
 # shadows), each must exit 0 with validation on and save a picture that is
-# neither empty nor uniform.
+# neither empty nor uniform. Then, where xdotool is installed, the keyboard:
+# key 3 must switch to alpha mode (the title says so) and Q must quit with exit 0.
 # usage: view_xvfb.sh SVO IMAGE_CHECK OCTREE OUT_DIR
 set -u
 svo=$1 check=$2 octree=$3 dir=$4
@@ -26,4 +27,28 @@ run() {  # NAME ARGS...: render 3 frames into a 200 x 150 window at half scale
 }
 run far
 run close --view close --mode mip --shadows
+
+if command -v xdotool >/dev/null 2>&1; then
+  echo "+ xvfb-run -a sh -c 'svo view $octree & (keys 3, then q through xdotool)'"
+  SVO="$svo" OCTREE="$octree" SHOT="$dir/view_keys.png" xvfb-run -a -s "-screen 0 640x480x24" sh -c '
+    "$SVO" view "$OCTREE" --width 200 --height 150 --scale 0.5 --validate --screenshot "$SHOT" &
+    pid=$!
+    window=$(timeout 60 xdotool search --sync --name "^svo view .*prefiltered") || { echo "no window"; kill $pid; exit 1; }
+    xdotool key --window "$window" 3
+    tries=0
+    until xdotool getwindowname "$window" | grep -q "| alpha |"; do
+      tries=$((tries + 1))
+      [ $tries -lt 600 ] || { echo "key 3 did not switch to alpha: $(xdotool getwindowname "$window")"; kill $pid; exit 1; }
+      sleep 0.1
+    done
+    xdotool key --window "$window" q
+    wait $pid
+    status=$?
+    [ $status -eq 0 ] || { echo "svo view exited with $status after Q"; exit 1; }
+    echo "title after key 3: alpha; Q quit with exit 0"
+  ' || exit 1
+  "$check" "$dir/view_keys.png" 100 75 || exit 1
+else
+  echo "xdotool not found: keyboard part skipped"
+fi
 echo "OK"

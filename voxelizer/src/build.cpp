@@ -40,7 +40,10 @@ struct Level {
   std::unordered_set<Key> bricks;
 };
 
-// Inserts every brick whose closed lattice range [b B, b B + B] holds p.
+// Inserts every brick whose closed lattice range [b B, b B + B] holds p: the
+// brick that owns p (stores it) and those that interpolate across it, so that
+// a filled point on a stored brick's upper face always has its owner stored
+// and the faces rebuilt from neighbours are exact (octree.h).
 void add_bricks_holding(glm::ivec3 p, int brick, int bricks_per_axis, std::unordered_set<Key>& out) {
   glm::ivec3 b = p / brick;
   for (int i = 0; i < 8; ++i) {
@@ -82,7 +85,7 @@ double estimate_memory_bytes(const SurfaceSource& source, uint32_t resolution, u
   // Finest bricks: about 2.5 per brick_size^2 of surface, coarser levels add a third.
   const double b = brick_size;
   const double bricks = 2.5 * samples / (b * b) * (4.0 / 3.0);
-  const double brick_bytes = bricks * (b + 1) * (b + 1) * (b + 1) * 16.0;
+  const double brick_bytes = bricks * b * b * b * 16.0;
   return samples * per_sample + brick_bytes + 64.0 * 1024 * 1024;
 }
 
@@ -252,6 +255,22 @@ struct Builder {
       if (d + 1 < depth_count) tree.depth_first_node.push_back(uint32_t(tree.nodes.size()));
     }
     tree.brick_count = jobs.size();
+    // Bricks on the domain's upper boundary come first: they carry shells (octree.h).
+    std::vector<uint32_t> renumber(jobs.size());
+    std::vector<BrickJob> ordered;
+    ordered.reserve(jobs.size());
+    for (int pass = 0; pass < 2; ++pass) {
+      for (size_t j = 0; j < jobs.size(); ++j) {
+        if (octree::on_upper_boundary(jobs[j].depth, jobs[j].coords) != (pass == 0)) continue;
+        renumber[j] = uint32_t(ordered.size());
+        ordered.push_back(jobs[j]);
+      }
+      if (pass == 0) tree.shell_count = ordered.size();
+    }
+    for (auto& node : tree.nodes) {
+      if (node.brick != octree::kNone) node.brick = renumber[node.brick];
+    }
+    jobs = std::move(ordered);
   }
 
   void choose_channels() {
@@ -298,15 +317,20 @@ struct Builder {
     if (colour_varies && correlated * 100 >= filled) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
     tree.constant_colour = colour_mean;
     for (const auto& c : tree.channels) {
-      tree.brick_data.emplace_back(size_t(tree.brick_count) * tree.samples_per_brick() *
-                                   octree::encoding_bytes(c.encoding));
+      tree.brick_data.emplace_back(size_t(tree.pool_samples()) * octree::encoding_bytes(c.encoding));
     }
   }
 
   void fill_bricks() {
-    // --- Bricks: every lattice point of every stored brick.
+    // --- Bricks: the B^3 lattice points each stored brick owns (its upper
+    // faces belong to its neighbours, octree.h), and for bricks on the
+    // domain's upper boundary the shell of their (B + 1)^3 block.
     progress("bricks", 0.55);
-    const int S = int(B) + 1;
+    const int S = int(B) + 1;  // the finest level evaluates the closed block (band neighbours across upper faces)
+    auto pool_sample = [&](size_t j, int x, int y, int z) {
+      return x < int(B) && y < int(B) && z < int(B) ? tree.brick_sample(j, uint32_t((z * int(B) + y) * int(B) + x))
+                                                    : tree.shell_sample(j, {x, y, z});
+    };
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, jobs.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
       auto& points = scratch.local();
@@ -315,15 +339,16 @@ struct Builder {
         const BrickJob& job = jobs[j];
         const Level& level = levels[job.depth];
         const glm::ivec3 base = job.coords * int(B);
+        const int E = j < tree.shell_count ? S : int(B);  // lattice points written per axis
         if (job.depth == D) {
           // Finest: exact values in the band. Points beyond it take the
           // attributes of band neighbours inside the brick: a cone element that
           // far from the surface covers nothing, so they never reach a pixel.
           source.evaluate(base, base + int(B), points);
           auto at = [&](int x, int y, int z) -> const FinePoint& { return points[size_t((z * S + y) * S + x)]; };
-          for (int z = 0; z < S; ++z)
-            for (int y = 0; y < S; ++y)
-              for (int x = 0; x < S; ++x) {
+          for (int z = 0; z < E; ++z)
+            for (int y = 0; y < E; ++y)
+              for (int x = 0; x < E; ++x) {
                 const FinePoint& p = at(x, y, z);
                 octree::Voxel v;
                 v.hbar = p.distance;
@@ -342,13 +367,13 @@ struct Builder {
                   }
                   if (count) v.nbar = glm::normalize(n + glm::vec3(0, 0, 1e-12f)), v.abar = a / float(count);
                 }
-                octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
+                octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
               }
         } else {
           const float floor_distance = float(0.5 * level.voxel) - h;
           // Filled-statistics index of every lattice point of the brick and a
           // one-point apron around it: one hash lookup each, then array reads.
-          const int A = S + 2;
+          const int A = E + 2;
           auto& filled = filled_scratch.local();
           filled.assign(size_t(A * A * A), -1);
           for (int z = 0; z < A; ++z)
@@ -363,9 +388,9 @@ struct Builder {
                 if (it != level.filled.end()) filled[size_t((z * A + y) * A + x)] = int32_t(it->second);
               }
           auto filled_at = [&](int x, int y, int z) { return filled[size_t(((z + 1) * A + y + 1) * A + x + 1)]; };
-          for (int z = 0; z < S; ++z)
-            for (int y = 0; y < S; ++y)
-              for (int x = 0; x < S; ++x) {
+          for (int z = 0; z < E; ++z)
+            for (int y = 0; y < E; ++y)
+              for (int x = 0; x < E; ++x) {
                 glm::ivec3 p = base + glm::ivec3(x, y, z);
                 octree::Voxel v;
                 int32_t self = filled_at(x, y, z);
@@ -410,7 +435,7 @@ struct Builder {
                     v.abar = colour_mean;
                   }
                 }
-                octree::encode_voxel(tree, j, uint32_t((z * S + y) * S + x), job.depth, v);
+                octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
               }
         }
         size_t n = ++done;

@@ -3,10 +3,50 @@
 // Space is a cube [origin, origin + size]^3. Depth 0 is one brick covering
 // the cube; depth d has brick_size * 2^d lattice cells per axis; the finest
 // depth is depth_count - 1. Voxel values live on lattice points (cell
-// corners): a brick of a node stores (brick_size + 1)^3 samples, its faces
-// duplicated with its neighbours, so that trilinear interpolation anywhere
-// inside the node reads that brick only. The value of a lattice point at depth
-// d summarises the surface inside the box of side voxel_size(d) centred on it.
+// corners). The brick of node c (integer coordinates at depth d) stores the
+// brick_size^3 lattice points c * B + i, i in [0, B) per axis, x fastest:
+// every lattice point is stored once, by the brick that owns it (floor(p / B)).
+// The value of a lattice point at depth d summarises the surface inside the
+// box of side voxel_size(d) centred on it.
+//
+// Trilinear interpolation inside a node needs the node's (B + 1)^3 points:
+// its own block plus its upper faces, edges and corner, which belong to the
+// neighbours c + o, o in {0, 1}^3 (sampler.h: BrickFaces). A point whose
+// owner has no brick takes its value, canonically (the same from every brick
+// that needs it), from a candidate brick: the bricks owner - S for the
+// non-empty S within A(p), A(p) = the axes a where p[a] is a positive
+// multiple of B (p lies on a brick face along a), tried by |S| (1, 2, 3),
+// then by the bits of S (x = 1, y = 2, z = 4): x, y, z, xy, xz, yz, xyz. The
+// first that exists is the source; p lies on its upper face along every axis
+// of S. A stored brick holds p in its closed range, so it is always a
+// candidate: every point of a stored brick's (B + 1)^3 block has a value.
+//
+// Shells: points on the domain's upper boundary (p[a] = B << d) have no
+// owner inside the domain, yet at coarse depths their footprint may hold the
+// surface. Every brick whose node lies on that boundary (some coordinate c[a]
+// = 2^d - 1) therefore also stores its shell: the 3B^2 + 3B + 1 points of its
+// (B + 1)^3 block with some local coordinate equal to B (shell_index gives
+// their order). Those bricks are numbered first, 0 .. shell_count - 1, so
+// that shell b belongs to brick b; a point on the domain boundary takes the
+// source's shell sample. Shell samples are read only there.
+//
+// Elsewhere the source's value is reconstructed, where no surface is near
+// p (the voxelizer stores every brick whose closed range holds a surface
+// point, so an absent owner means an empty footprint). With q = p - e_S, the
+// source's stored point nearest to p:
+//   - Distance: linear extrapolation along each axis of S from the source's
+//     two inner samples, 2 hbar(q) - hbar(q - e_a), applied per axis (for an
+//     edge or a corner, the product of the per-axis stencils: the separable
+//     bilinear/trilinear extrapolation), in double, rounded once to float.
+//     Then kept off the surface: at least reconstruction_floor(depth) =
+//     max(voxel / 2 - h, h / 2) from zero (h the finest voxel: an empty
+//     footprint is at least that far from the surface), on q's side when the
+//     extrapolation falls short of it; and on q's side, no closer than q, if
+//     it crossed zero while |hbar(q)| >= sqrt(3) / 2 voxel (then q's box
+//     holds no surface either, and a surface between q and p is unlikely).
+//   - Every other channel: the encoded bytes of the nearest stored sample q.
+// On the built-in scenes this puts the reconstructed distance on the
+// surface's side at all but a few in 10^4 points (docs/RESULTS.md).
 //
 // Nodes are stored depth by depth; the children of a node are 8 consecutive
 // nodes (a tile) at depth + 1, in x-fastest order. A node without surface
@@ -17,6 +57,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -87,22 +128,50 @@ struct Octree {
   std::vector<uint32_t> depth_first_node;  // size depth_count + 1; nodes of depth d: [first[d], first[d+1])
   std::vector<Node> nodes;                 // node 0 is the root (depth 0)
   uint64_t brick_count = 0;
-  std::vector<std::vector<uint8_t>> brick_data;  // per channel: brick_count * samples_per_brick() * bytes
+  uint64_t shell_count = 0;  // bricks on the domain's upper boundary: bricks 0 .. shell_count - 1
+  // Per channel, in samples of encoding_bytes each: brick_count *
+  // samples_per_brick() brick samples, then shell_count * shell_samples()
+  // shell samples (shell b after shell b - 1).
+  std::vector<std::vector<uint8_t>> brick_data;
 
-  uint32_t samples_per_edge() const { return brick_size + 1; }
+  // Stored samples per brick edge: brick_size (faces are not duplicated).
+  uint32_t samples_per_edge() const { return brick_size; }
   uint32_t samples_per_brick() const { return samples_per_edge() * samples_per_edge() * samples_per_edge(); }
+  // Lattice points per edge of a node's brick with its upper faces: brick_size + 1.
+  uint32_t samples_per_edge_with_faces() const { return brick_size + 1; }
+  // Points of a shell: (B + 1)^3 - B^3.
+  uint32_t shell_samples() const { return 3 * brick_size * brick_size + 3 * brick_size + 1; }
+  // Samples per channel pool: brick samples and shells.
+  uint64_t pool_samples() const { return brick_count * samples_per_brick() + shell_count * shell_samples(); }
+  // Index in a pool (in samples) of sample i of brick b, and of point l (some
+  // l[a] = B) of the shell of brick b < shell_count.
+  uint64_t brick_sample(uint64_t b, uint32_t i) const { return b * samples_per_brick() + i; }
+  uint64_t shell_sample(uint64_t b, glm::ivec3 l) const;
   uint32_t finest_resolution() const { return brick_size << (depth_count - 1); }
   // Lattice spacing at depth d, scene units.
   float voxel_size(uint32_t depth) const { return size / float(brick_size << depth); }
   int channel_index(Channel channel) const;  // -1 when absent
-  // Voxels for reporting: bricks x brick_size^3 (brick faces shared with neighbours are not counted twice).
+  // Voxels for reporting: bricks x brick_size^3 (the samples stored).
   uint64_t voxel_count() const { return brick_count * uint64_t(brick_size) * brick_size * brick_size; }
 };
+
+// Whether the node of coordinates `c` at `depth` lies on the domain's upper
+// boundary (some c[a] = 2^depth - 1): its brick, if any, has a shell.
+bool on_upper_boundary(uint32_t depth, glm::ivec3 c);
+
+// Order of point l of a (B + 1)^3 block within the shell (some l[a] = B):
+// the shell's points in x-fastest order of the block. In [0, 3B^2 + 3B + 1).
+uint32_t shell_index(uint32_t brick_size, glm::ivec3 l);
 
 // Encodes `v` into sample `sample` of brick `brick` for every channel of
 // `tree`; `depth` gives the voxel size for relative encodings.
 void encode_voxel(Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth, const Voxel& v);
+// The same at any pool sample (brick_sample or shell_sample).
+void encode_pool_voxel(Octree& tree, uint64_t pool_sample, uint32_t depth, const Voxel& v);
 // The inverse, with the tree's defaults for absent channels.
 Voxel decode_voxel(const Octree& tree, uint64_t brick, uint32_t sample, uint32_t depth);
+// The same from encoded bytes: samples[c] points at one encoded sample of
+// channel c (samples.size() == tree.channels.size()).
+Voxel decode_sample(const Octree& tree, std::span<const uint8_t* const> samples, uint32_t depth);
 
 }  // namespace svo::octree

@@ -2,13 +2,14 @@
 // with every count and offset validated, and readable in place through a
 // read-only memory map (DESIGN section 7).
 //
-// Layout, version 1. All integers little-endian, floats IEEE-754 binary32.
+// Layout, version 2. All integers little-endian, floats IEEE-754 binary32.
 // Offsets are bytes from the start of the file.
 //
 //   header, 128 bytes at offset 0
 //     off size  field
 //       0    8  magic "SVOCTREE"
-//       8    4  u32 version = 1
+//       8    4  u32 version = 2 (version 1 stored (brick_size + 1)^3
+//                                   samples per brick; it is refused)
 //      12    4  u32 header_bytes = 128
 //      16    4  u32 brick_size        power of two in [2, 32]
 //      20    4  u32 depth_count       [1, 16]; brick_size << (depth_count - 1) <= 65536
@@ -17,7 +18,7 @@
 //      40    4  f32 sigma_rho2        finite, >= 0
 //      44   12  f32 constant_colour[3] finite
 //      56    4  u32 channel_count     [0, 16]
-//      60    4  u32 reserved = 0
+//      60    4  u32 shell_count       <= brick_count: bricks with a shell (octree.h)
 //      64    8  u64 node_count        in [1, 2^32 - 1)
 //      72    8  u64 brick_count       <= node_count
 //      80    8  u64 channel_table_offset  8-aligned, >= 128
@@ -32,12 +33,19 @@
 //       8    4  u32 bytes_per_sample  = encoding_bytes(encoding)
 //      12    4  u32 reserved = 0
 //      16    8  u64 data_offset       64-aligned; channel i starts at or after the end of channel i - 1
-//      24    8  u64 data_bytes        = brick_count * (brick_size + 1)^3 * bytes_per_sample
+//      24    8  u64 data_bytes        = (brick_count * brick_size^3 + shell_count *
+//                                         (3 brick_size^2 + 3 brick_size + 1)) * bytes_per_sample
 //   depth table, depth_count + 1 entries of u32: Octree::depth_first_node
 //   node table, node_count entries of 8 bytes: u32 children, u32 brick (Node)
 //   brick data, one section per channel in table order, each 64-aligned:
 //     brick b's samples are bytes [b * samples_per_brick * bytes_per_sample, ...)
-//     of the section, x-fastest, then y, then z.
+//     of the section, x-fastest, then y, then z; samples_per_brick =
+//     brick_size^3: the lattice points c * B + [0, B)^3 of the node's brick
+//     (octree.h). Upper faces are not stored: sampler.h rebuilds them from
+//     the neighbouring bricks. After all bricks, the shells of bricks 0 ..
+//     shell_count - 1, 3B^2 + 3B + 1 samples each, in shell_index order:
+//     the points of the brick's (B + 1)^3 block on its upper faces, read
+//     where they lie on the domain's upper boundary.
 // Sections come in this order and do not overlap. The writer places them back
 // to back at the smallest aligned offset and fills the gaps with zeros; the
 // reader accepts any placement that obeys the rules above and ignores the
@@ -50,7 +58,9 @@
 // A node's `children` is kNone or the start of a tile (a multiple of 8 from
 // the start of its depth) at the NEXT depth, so the tree has no cycles; no
 // tile has two parents. A node's `brick` is kNone or < brick_count, and no
-// brick belongs to two nodes.
+// brick belongs to two nodes. The bricks of nodes on the domain's upper
+// boundary (some coordinate 2^depth - 1 at their depth) are exactly bricks
+// 0 .. shell_count - 1.
 #pragma once
 
 #include <cstdint>
@@ -98,7 +108,7 @@ class SvoView {
 
   const std::string& name() const { return name_; }
   uint64_t file_bytes() const { return bytes_.size(); }
-  uint32_t version() const { return 1; }
+  uint32_t version() const { return 2; }  // the only version this build reads
 
   // The header's scalar fields, channels and depth table, as an Octree with
   // no nodes and no brick data (its brick_count is set).
@@ -113,7 +123,7 @@ class SvoView {
   std::span<const Node> nodes() const { return nodes_; }
   // Channel c's whole brick pool, as stored; c < channels().size().
   std::span<const uint8_t> brick_data(size_t c) const { return brick_data_.at(c); }
-  // One brick of channel c: samples_per_brick() * encoding_bytes bytes.
+  // One brick of channel c: samples_per_brick() * encoding_bytes bytes (its shell, if any, is in brick_data(c)).
   // @throw std::out_of_range when c or brick is out of range.
   std::span<const uint8_t> brick(size_t c, uint64_t brick) const;
   // Where channel c's pool starts in the file (for reading bricks on demand).

@@ -27,6 +27,7 @@ enum class Mode : uint32_t {
   Nearest = 1,      // binary voxels at the nearest level, no interpolation
   Alpha = 2,        // coverage as opacity, front-to-back blending (thickens silhouettes)
   Mip = 3,          // our geometry, plain averaged colour and normal
+  RayMarch = 4,     // supersampling baseline: RenderSettings::spp rays per pixel marching the finest level
 };
 const char* mode_name(Mode mode);                   // "prefiltered", ...
 std::optional<Mode> parse_mode(std::string_view name);  // nullopt for an unknown name
@@ -60,10 +61,11 @@ struct RenderSettings {
   Camera camera;
   Mode mode = Mode::Prefiltered;
   bool shadows = false;
-  std::vector<Light> lights{Light{}};  // at most kMaxLights
+  std::vector<Light> lights = std::vector<Light>(1);  // at most kMaxLights; default: one Light{}
   glm::vec3 ambient{0.08f, 0.08f, 0.1f};  // unshadowed ambient irradiance / pi, times abar
   glm::vec3 background{0.02f, 0.02f, 0.03f};  // radiance of the bits no element set
   float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
+  uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements

@@ -16,6 +16,13 @@
 
 namespace svo::vk {
 
+// `src` (w x h pixels, bytes R, G, B, A) stretched over `dst` (W x H pixels,
+// 4 bytes each: B, G, R, 255 when `bgra`, else R, G, B, 255) with a bilinear
+// filter on pixel centres, edges clamped; a plain copy when the sizes match.
+// @throw std::invalid_argument when a span does not hold its pixels or a side is 0.
+void stretch_rgba8(std::span<const uint8_t> src, uint32_t w, uint32_t h, std::span<uint8_t> dst, uint32_t W, uint32_t H,
+                   bool bgra);
+
 class Swapchain {
  public:
   // `context` must have a surface, and must outlive the swapchain.

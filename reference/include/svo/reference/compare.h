@@ -1,0 +1,57 @@
+// Error figures of an image against a reference (DESIGN section 9), in
+// linear radiance. Images come from render::read_image (EXR as written, PNG
+// decoded from sRGB to linear); colour is the channels named R, G, B and
+// coverage the channel named A.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "svo/render/image_io.h"
+#include "svo/render/renderer.h"
+
+namespace svo::reference {
+
+struct ImageErrors {
+  int width = 0, height = 0;
+  // Over all pixels and the R, G, B channels, with a the image and b the reference:
+  double rmse = 0;       // sqrt(mean (a - b)^2)
+  double relmse = 0;     // mean (a - b)^2 / (b + 0.01)^2 (pbrt-v4's MRSE)
+  double psnr = 0;       // 10 log10(1 / mean (a - b)^2): peak 1; +infinity for identical colours
+  double max_error = 0;  // max |a - b|
+  // Mean |alpha_a - alpha_b| over all pixels; nullopt when either image has no A channel.
+  std::optional<double> coverage_error;
+  // The same over the reference's silhouette pixels (silhouette_mask); nullopt
+  // without alpha or when the reference has no silhouette pixel.
+  std::optional<double> coverage_error_silhouette;
+  uint64_t silhouette_pixels = 0;
+};
+
+// Silhouette pixels of a reference's coverage: alpha strictly between 0.02
+// and 0.98 (partly covered), or a 4-neighbour whose alpha differs by more
+// than 0.5 (an edge between two pixels, however sharp). One byte per pixel,
+// row-major; all zero when the image has no A channel.
+std::vector<uint8_t> silhouette_mask(const render::Image& reference);
+
+// Compares `image` (called `image_name` in messages) with `reference`.
+// RMSE and max error come from OpenImageIO's ImageBufAlgo::compare (PSNR
+// from its RMSE); relMSE and the coverage figures are computed here.
+// @throw render::ImageError "<name>: <why>" when an image lacks R, G, B
+//        channels or holds a value that is not finite, or "<image_name> is
+//        WxH but <reference_name> is WxH" for different sizes.
+ImageErrors compare_images(const render::Image& image, const render::Image& reference,
+                           const std::string& image_name = "image", const std::string& reference_name = "reference");
+
+// A false-colour picture of the per-pixel error sqrt(mean over R, G, B of
+// (a - b)^2): black (0) through purple and orange to pale yellow (`scale`
+// and above), an approximation of the "inferno" colour map. Linear RGB,
+// alpha 1, ready for render::write_colour. The images must have passed
+// compare_images.
+render::Frame error_image(const render::Image& image, const render::Image& reference, double scale);
+
+// The largest per-pixel error error_image would show (its default scale).
+double max_pixel_error(const render::Image& image, const render::Image& reference);
+
+}  // namespace svo::reference

@@ -1,0 +1,62 @@
+// Ground truth (DESIGN section 9): the source geometry ray traced with
+// stratified supersampling over each pixel's cone footprint, shaded with the
+// micro-BRDF alone and the same camera, lights and shadows as the cone tracer
+// (render::RenderSettings), so that `svo compare` can judge the tracer's
+// frames against it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "svo/reference/geometry.h"
+#include "svo/render/renderer.h"
+
+namespace svo::reference {
+
+struct ReferenceSettings {
+  // Image size, camera (thin lens included), lights, shadows, ambient,
+  // background and specular weight as for the cone tracer; mode, gbuffer and
+  // max_steps are ignored.
+  render::RenderSettings render;
+  // Samples per pixel, >= 1: a stratified a x b grid with a * b = spp (a the
+  // largest divisor of spp not above sqrt(spp): a square grid when spp is a
+  // perfect square), jittered, mapped to the footprint disk by the
+  // concentric mapping (Shirley & Chiu 1997).
+  uint32_t spp = 64;
+  uint64_t seed = 1;  // the same seed gives the same image, whatever the threads
+  // Called from worker threads with the fraction of rows done; may be empty.
+  std::function<void(double)> progress;
+};
+
+// Renders the reference frame. Per pixel, spp rays through the pixel's cone
+// footprint: the cone of the tracer (render/src/trace_setup.cpp) has its apex
+// at the eye, its axis through the pixel centre and a disk of the pixel's
+// area (radius pixel side / sqrt(pi)) as cross-section at unit distance; each
+// ray's direction is a stratified point of that disk. With an aperture A, the
+// ray starts at a stratified point of the lens disk (radius A, spanned by the
+// camera's right and up vectors; its points paired with the footprint's by a
+// random permutation) and passes through the point where the footprint ray
+// meets the focus plane, perpendicular to the view axis at distance `focus`
+// from the eye (thin lens; Camera::focus is "along the view axis"). On the
+// axis the bundle's radius at distance t is then A |t - focus| / focus beside
+// the footprint, the tracer's r(t); off the axis the tracer measures t along
+// the pixel's ray, which puts its sharp surface on a sphere, not this plane.
+//
+// Shading mirrors svo_shade (shaders/common/tracer.glsl) with the
+// micro-BRDF alone: true normal n, colour a at the hit, slope variance
+// sigma_rho^2 (svo_total_slope_variance(0, sigma_rho^2)), Lambda = 0 so that
+// abar(v, l) = a:
+//   L = ambient a + sum_lights E (a / pi + specular svo_specular_brdf(v, l)) (n . l) V
+// With shadows, V is one shadow ray per sample and light towards a
+// stratified point of the light's extent (directional: the cone of angular
+// radius `size`; point: the sphere of radius `size`, through the solid angle
+// it subtends), the strata paired with the pixel samples by a random
+// permutation. A sample that meets nothing takes the background; the pixel
+// is the mean of its samples, alpha the fraction that met the surface.
+//
+// @throw std::invalid_argument "<what>: <why>" for bad settings (size 0,
+//        spp 0, more than render::kMaxLights lights, a light that is not
+//        finite, a camera that render::validate_camera refuses).
+render::Frame render_reference(const Geometry& geometry, const ReferenceSettings& settings);
+
+}  // namespace svo::reference

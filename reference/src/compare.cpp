@@ -1,0 +1,178 @@
+#include "svo/reference/compare.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <array>
+#include <cmath>
+#include <glm/common.hpp>
+#include <limits>
+
+#include "common/shared_math.h"
+
+namespace svo::reference {
+
+namespace {
+
+using render::Image;
+using render::ImageError;
+
+// compare() counts values above its thresholds as failures; we want figures only.
+constexpr float kNoThreshold = std::numeric_limits<float>::max();
+
+std::array<int, 3> rgb_channels(const Image& image, const std::string& name) {
+  std::array<int, 3> c{image.channel("R"), image.channel("G"), image.channel("B")};
+  if (c[0] < 0 || c[1] < 0 || c[2] < 0) {
+    std::string names;
+    for (const auto& n : image.channels) names += (names.empty() ? "" : ", ") + n;
+    throw ImageError(name + ": needs R, G, B channels, has " + (names.empty() ? "none" : names));
+  }
+  return c;
+}
+
+void check_finite(const Image& image, const std::string& name) {
+  const size_t channels = image.channels.size();
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    if (!std::isfinite(image.pixels[i])) {
+      const size_t pixel = i / channels;
+      throw ImageError(name + ": pixel (" + std::to_string(pixel % size_t(image.width)) + ", " +
+                       std::to_string(pixel / size_t(image.width)) + ") channel " + image.channels[i % channels] +
+                       " is not finite");
+    }
+  }
+}
+
+// The R, G, B channels as an OpenImageIO float buffer.
+OIIO::ImageBuf rgb_buffer(const Image& image, const std::array<int, 3>& c) {
+  OIIO::ImageBuf buffer(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
+  std::array<float, 3> rgb{};
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (int k = 0; k < 3; ++k) rgb[size_t(k)] = image.at(x, y, c[size_t(k)]);
+      buffer.setpixel(x, y, rgb.data(), 3);
+    }
+  }
+  return buffer;
+}
+
+// Squared error of pixel (x, y) averaged over R, G, B.
+double pixel_mse(const Image& a, const std::array<int, 3>& ca, const Image& b, const std::array<int, 3>& cb, int x,
+                 int y) {
+  double sum = 0;
+  for (size_t k = 0; k < 3; ++k) {
+    const double d = double(a.at(x, y, ca[k])) - double(b.at(x, y, cb[k]));
+    sum += d * d;
+  }
+  return sum / 3;
+}
+
+// Stops of the colour map, sRGB-encoded (after matplotlib's "inferno").
+constexpr std::array<glm::vec3, 5> kStops{glm::vec3(0.0f, 0.0f, 0.016f), glm::vec3(0.341f, 0.063f, 0.431f),
+                                          glm::vec3(0.737f, 0.216f, 0.329f), glm::vec3(0.976f, 0.557f, 0.035f),
+                                          glm::vec3(0.988f, 1.0f, 0.643f)};
+
+glm::vec3 false_colour(double value) {
+  const double f = std::clamp(value, 0.0, 1.0) * double(kStops.size() - 1);
+  const size_t i = std::min(size_t(f), kStops.size() - 2);
+  const glm::vec3 srgb = glm::mix(kStops[i], kStops[i + 1], float(f - double(i)));
+  return {svo::math::svo_srgb_to_linear(srgb.x), svo::math::svo_srgb_to_linear(srgb.y),
+          svo::math::svo_srgb_to_linear(srgb.z)};
+}
+
+}  // namespace
+
+std::vector<uint8_t> silhouette_mask(const Image& reference) {
+  const int w = reference.width, h = reference.height, a = reference.channel("A");
+  std::vector<uint8_t> mask(size_t(w) * size_t(h), 0);
+  if (a < 0) return mask;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float alpha = reference.at(x, y, a);
+      bool edge = alpha > 0.02f && alpha < 0.98f;
+      const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+      for (int k = 0; k < 4 && !edge; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+        edge = std::abs(reference.at(nx[k], ny[k], a) - alpha) > 0.5f;
+      }
+      mask[size_t(y) * size_t(w) + size_t(x)] = edge ? 1 : 0;
+    }
+  }
+  return mask;
+}
+
+ImageErrors compare_images(const Image& image, const Image& reference, const std::string& image_name,
+                           const std::string& reference_name) {
+  const auto ca = rgb_channels(image, image_name);
+  const auto cb = rgb_channels(reference, reference_name);
+  if (image.width != reference.width || image.height != reference.height) {
+    throw ImageError(image_name + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) + " but " +
+                     reference_name + " is " + std::to_string(reference.width) + "x" +
+                     std::to_string(reference.height));
+  }
+  check_finite(image, image_name);
+  check_finite(reference, reference_name);
+  ImageErrors e;
+  e.width = image.width;
+  e.height = image.height;
+  const OIIO::ImageBuf a = rgb_buffer(image, ca), b = rgb_buffer(reference, cb);
+  const OIIO::ImageBufAlgo::CompareResults r = OIIO::ImageBufAlgo::compare(a, b, kNoThreshold, kNoThreshold);
+  if (r.error) throw ImageError(image_name + ": comparison failed: " + OIIO::geterror());
+  e.rmse = r.rms_error;
+  e.psnr = r.rms_error > 0 ? 20.0 * std::log10(1.0 / r.rms_error) : std::numeric_limits<double>::infinity();
+  e.max_error = r.maxerror;
+  // pbrt-v4's MRSE, by hand: OpenImageIO has no relative error.
+  double relative = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (size_t k = 0; k < 3; ++k) {
+        const double ref = reference.at(x, y, cb[k]), d = double(image.at(x, y, ca[k])) - ref;
+        relative += d * d / ((ref + 0.01) * (ref + 0.01));
+      }
+    }
+  }
+  const double samples = 3.0 * double(image.width) * double(image.height);
+  e.relmse = relative / samples;
+  const std::vector<uint8_t> silhouette = silhouette_mask(reference);
+  for (uint8_t s : silhouette) e.silhouette_pixels += s;
+  const int aa = image.channel("A"), ab = reference.channel("A");
+  if (aa >= 0 && ab >= 0) {
+    double all = 0, edge = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const double d = std::abs(double(image.at(x, y, aa)) - double(reference.at(x, y, ab)));
+        all += d;
+        if (silhouette[size_t(y) * size_t(image.width) + size_t(x)]) edge += d;
+      }
+    }
+    e.coverage_error = all / (double(image.width) * double(image.height));
+    if (e.silhouette_pixels > 0) e.coverage_error_silhouette = edge / double(e.silhouette_pixels);
+  }
+  return e;
+}
+
+double max_pixel_error(const Image& image, const Image& reference) {
+  const auto ca = rgb_channels(image, "image"), cb = rgb_channels(reference, "reference");
+  double worst = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) worst = std::max(worst, pixel_mse(image, ca, reference, cb, x, y));
+  }
+  return std::sqrt(worst);
+}
+
+render::Frame error_image(const Image& image, const Image& reference, double scale) {
+  const auto ca = rgb_channels(image, "image"), cb = rgb_channels(reference, "reference");
+  render::Frame frame;
+  frame.width = uint32_t(image.width);
+  frame.height = uint32_t(image.height);
+  frame.colour.resize(size_t(image.width) * size_t(image.height));
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const double error = std::sqrt(pixel_mse(image, ca, reference, cb, x, y));
+      const glm::vec3 c = false_colour(scale > 0 ? error / scale : (error > 0 ? 1.0 : 0.0));
+      frame.colour[size_t(y) * size_t(image.width) + size_t(x)] = glm::vec4(c, 1.0f);
+    }
+  }
+  return frame;
+}
+
+}  // namespace svo::reference

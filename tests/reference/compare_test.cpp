@@ -1,0 +1,167 @@
+// svo compare's figures on synthetic images whose answers are known in
+// closed form, its silhouette definition, the false-colour picture, and its
+// refusals (size mismatch, missing channels, values that are not finite).
+#include "svo/reference/compare.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "temp_dir.h"
+
+namespace svo::reference {
+namespace {
+
+using render::Image;
+
+// An RGBA (or RGB) image whose channels are given per pixel.
+Image make_image(int w, int h, const std::function<glm::vec4(int, int)>& f, bool with_alpha = true) {
+  Image image;
+  image.width = w;
+  image.height = h;
+  image.channels = with_alpha ? std::vector<std::string>{"R", "G", "B", "A"} : std::vector<std::string>{"R", "G", "B"};
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      glm::vec4 v = f(x, y);
+      for (size_t c = 0; c < image.channels.size(); ++c) image.pixels.push_back(v[int(c)]);
+    }
+  }
+  return image;
+}
+
+TEST(Compare, IdenticalImagesHaveNoError) {
+  Image a = make_image(9, 7, [](int x, int y) { return glm::vec4(0.1f * x, 0.05f * y, 0.3f, x < 4 ? 1.0f : 0.0f); });
+  ImageErrors e = compare_images(a, a);
+  EXPECT_EQ(e.rmse, 0);
+  EXPECT_EQ(e.relmse, 0);
+  EXPECT_EQ(e.max_error, 0);
+  EXPECT_TRUE(std::isinf(e.psnr) && e.psnr > 0);
+  ASSERT_TRUE(e.coverage_error && e.coverage_error_silhouette);
+  EXPECT_EQ(*e.coverage_error, 0);
+  EXPECT_EQ(*e.coverage_error_silhouette, 0);
+  EXPECT_EQ(e.width, 9);
+  EXPECT_EQ(e.height, 7);
+}
+
+TEST(Compare, ConstantOffsetGivesKnownFigures) {
+  // b = 0.5 everywhere, a = b + 0.1 in R, G, B: RMSE 0.1, PSNR 20 dB,
+  // relMSE 0.01 / 0.51^2, max error 0.1.
+  Image b = make_image(8, 8, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f); });
+  Image a = make_image(8, 8, [](int, int) { return glm::vec4(0.6f, 0.6f, 0.6f, 1.0f); });
+  ImageErrors e = compare_images(a, b);
+  EXPECT_NEAR(e.rmse, 0.1, 1e-6);
+  EXPECT_NEAR(e.psnr, 20.0, 1e-4);
+  EXPECT_NEAR(e.relmse, 0.01 / (0.51 * 0.51), 1e-6);
+  EXPECT_NEAR(e.max_error, 0.1, 1e-6);
+  EXPECT_EQ(*e.coverage_error, 0);
+  EXPECT_EQ(e.silhouette_pixels, 0u);
+  EXPECT_FALSE(e.coverage_error_silhouette) << "no silhouette pixel: no silhouette figure";
+}
+
+TEST(Compare, RelativeErrorWeighsDarkPixelsMore) {
+  // b ramps over x, one channel differs by 0.05: relMSE is the mean of
+  // 0.0025 / (b + 0.01)^2 over the pixels and the three channels.
+  auto ramp = [](int x) { return 0.1f * float(x); };
+  Image b = make_image(10, 3, [&](int x, int) { return glm::vec4(ramp(x), 0.2f, 0.2f, 1.0f); });
+  Image a = make_image(10, 3, [&](int x, int) { return glm::vec4(ramp(x) + 0.05f, 0.2f, 0.2f, 1.0f); });
+  double expected = 0;
+  for (int x = 0; x < 10; ++x) expected += 0.0025 / std::pow(double(ramp(x)) + 0.01, 2);
+  expected /= 3 * 10;  // three channels, one differs
+  ImageErrors e = compare_images(a, b);
+  EXPECT_NEAR(e.relmse, expected, 1e-4 * expected);
+  EXPECT_NEAR(e.rmse, std::sqrt(0.0025 / 3), 1e-6);
+}
+
+TEST(Compare, CoverageErrorOverallAndOnSilhouettes) {
+  // Reference: columns 0-3 covered, column 4 half covered, 5-9 empty; 6 rows.
+  // Silhouette pixels: column 4 (alpha in (0.02, 0.98)) only: no neighbours
+  // differ by more than 0.5. The image's alpha is 0.2 too high in column 4
+  // and 0.1 too low in column 0.
+  auto ref_alpha = [](int x) { return x < 4 ? 1.0f : x == 4 ? 0.5f : 0.0f; };
+  Image b = make_image(10, 6, [&](int x, int) { return glm::vec4(0.3f, 0.3f, 0.3f, ref_alpha(x)); });
+  Image a = make_image(10, 6, [&](int x, int) {
+    float alpha = ref_alpha(x) + (x == 4 ? 0.2f : 0.0f) - (x == 0 ? 0.1f : 0.0f);
+    return glm::vec4(0.3f, 0.3f, 0.3f, alpha);
+  });
+  ImageErrors e = compare_images(a, b);
+  EXPECT_EQ(e.silhouette_pixels, 6u);
+  EXPECT_NEAR(*e.coverage_error, (0.2 + 0.1) / 10, 1e-6);
+  EXPECT_NEAR(*e.coverage_error_silhouette, 0.2, 1e-6);
+  EXPECT_EQ(e.rmse, 0);
+}
+
+TEST(Compare, SharpEdgesAreSilhouettesOnBothSides) {
+  Image b = make_image(6, 4, [](int x, int) { return glm::vec4(0, 0, 0, x < 3 ? 1.0f : 0.0f); });
+  std::vector<uint8_t> mask = silhouette_mask(b);
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 6; ++x) EXPECT_EQ(mask[size_t(y * 6 + x)], (x == 2 || x == 3) ? 1 : 0) << x << "," << y;
+  }
+}
+
+TEST(Compare, WithoutAlphaCoverageIsUnknown) {
+  Image b = make_image(4, 4, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f); });
+  Image a = make_image(
+      4, 4, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f); }, false);
+  ImageErrors e = compare_images(a, b);
+  EXPECT_FALSE(e.coverage_error);
+  EXPECT_FALSE(e.coverage_error_silhouette);
+  EXPECT_EQ(e.rmse, 0);
+}
+
+TEST(Compare, RefusesMismatchedOrBrokenImagesNamingThem) {
+  Image a = make_image(4, 3, [](int, int) { return glm::vec4(0.5f); });
+  Image b = make_image(3, 4, [](int, int) { return glm::vec4(0.5f); });
+  try {
+    compare_images(a, b, "a.exr", "b.exr");
+    FAIL() << "different sizes were compared";
+  } catch (const render::ImageError& e) {
+    EXPECT_STREQ(e.what(), "a.exr is 4x3 but b.exr is 3x4");
+  }
+  Image grey = a;
+  grey.channels = {"Y", "A", "Z", "W"};
+  EXPECT_THROW(compare_images(grey, a, "grey.png", "a.exr"), render::ImageError);
+  Image nan = a;
+  nan.pixels[5] = std::nanf("");
+  try {
+    compare_images(nan, a, "nan.exr", "a.exr");
+    FAIL() << "a NaN was compared";
+  } catch (const render::ImageError& e) {
+    EXPECT_STREQ(e.what(), "nan.exr: pixel (1, 0) channel G is not finite");
+  }
+}
+
+TEST(Compare, ErrorImageRunsFromBlackToTheTopColour) {
+  Image b = make_image(4, 1, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f); });
+  Image a = make_image(4, 1, [](int x, int) { return glm::vec4(0.5f + 0.1f * x, 0.5f, 0.5f, 1.0f); });
+  const double top = max_pixel_error(a, b);
+  EXPECT_NEAR(top, 0.3 / std::sqrt(3.0), 1e-6);
+  render::Frame f = error_image(a, b, top);
+  ASSERT_EQ(f.colour.size(), 4u);
+  EXPECT_LT(f.colour[0].r + f.colour[0].g, 1e-3f) << "no error: black";
+  // Brightness grows with the error; the largest is the pale yellow top.
+  for (int x = 1; x < 4; ++x) {
+    EXPECT_GT(f.colour[size_t(x)].r + f.colour[size_t(x)].g, f.colour[size_t(x) - 1].r + f.colour[size_t(x) - 1].g);
+  }
+  EXPECT_GT(f.colour[3].g, 0.9f);
+  EXPECT_EQ(f.colour[3].a, 1.0f);
+}
+
+TEST(Compare, FilesRoundTripThroughExrAndPng) {
+  render::testing::TempDir dir;
+  render::Frame frame;
+  frame.width = 5;
+  frame.height = 4;
+  for (int i = 0; i < 20; ++i) frame.colour.push_back(glm::vec4(0.05f * i, 0.5f, 0.25f, i % 2 ? 1.0f : 0.25f));
+  render::write_colour(dir / "a.exr", frame);
+  render::write_colour(dir / "a.png", frame);
+  ImageErrors exact = compare_images(render::read_image(dir / "a.exr"), render::read_image(dir / "a.exr"));
+  EXPECT_EQ(exact.rmse, 0);
+  // PNG: 8-bit sRGB, no alpha; decoded to linear it agrees within quantisation.
+  ImageErrors png = compare_images(render::read_image(dir / "a.png"), render::read_image(dir / "a.exr"));
+  EXPECT_LT(png.max_error, 0.01);
+  EXPECT_FALSE(png.coverage_error);
+}
+
+}  // namespace
+}  // namespace svo::reference

@@ -1,0 +1,312 @@
+// svo bench speed-error: for each view, the time and the error against the
+// ground truth of every way the engine can draw a frame: one pre-filtered
+// cone per pixel, the three baselines, and supersampled ray marching of the
+// finest level at 1, 4, 16 and 64 rays per pixel (DESIGN section 9).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "progress.h"
+#include "source_options.h"
+#include "svo/reference/compare.h"
+#include "svo/reference/geometry.h"
+#include "svo/reference/reference.h"
+#include "svo/render/camera.h"
+#include "svo/render/image_io.h"
+#include "svo/render/renderer.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/mesh.h"
+
+namespace svo::tools {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SpeedErrorArgs {
+  SourceOptions source;
+  uint32_t resolution = 256;
+  std::string views = "far,mid,close";
+  uint32_t size = 256;
+  uint32_t reference_spp = 256;
+  uint32_t repeats = 3;
+  bool shadows = false;
+  std::string device;
+  std::string out = "bench-speed-error";
+};
+
+// One way of drawing a frame.
+struct Method {
+  std::string name;  // as in the tables: "prefiltered", ..., "raymarch-16"
+  render::Mode mode;
+  uint32_t spp;
+};
+
+struct Row {
+  std::string view, method;
+  uint32_t spp = 1;
+  double ms = 0;  // median GPU time
+  double us_per_pixel = 0;
+  double relmse = 0, rmse = 0, psnr = 0, coverage_error = 0, coverage_error_silhouette = 0;
+};
+
+render::Image as_image(const render::Frame& f) {
+  render::Image im;
+  im.width = int(f.width);
+  im.height = int(f.height);
+  im.channels = {"R", "G", "B", "A"};
+  im.pixels.reserve(f.colour.size() * 4);
+  for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
+  return im;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> parts;
+  std::stringstream in(s);
+  for (std::string p; std::getline(in, p, ',');) parts.push_back(p);
+  return parts;
+}
+
+// Time of supersampled marching at the error `target`, interpolated on the
+// log-log curve through its points (sorted by rays); nullopt when the target
+// is outside the curve's error range.
+std::optional<double> time_at_error(const std::vector<Row>& march, double target) {
+  for (size_t i = 0; i + 1 < march.size(); ++i) {
+    double e0 = march[i].relmse, e1 = march[i + 1].relmse;
+    if ((e0 - target) * (e1 - target) > 0 || e0 == e1 || e0 <= 0 || e1 <= 0) continue;
+    double f = (std::log(target) - std::log(e0)) / (std::log(e1) - std::log(e0));
+    return std::exp(std::log(march[i].ms) + f * (std::log(march[i + 1].ms) - std::log(march[i].ms)));
+  }
+  return std::nullopt;
+}
+
+std::string fmt(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string sci(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    std::cerr << "svo bench: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
+    return;
+  }
+  std::ofstream gp(dir / "plot.gp");
+  gp << "set terminal pngcairo size 1200,420 font 'sans,10'\nset output '" << (dir / "speed-error.png").string()
+     << "'\nset datafile separator ','\nset logscale xy\nset key bottom left\nset grid\n"
+     << "set multiplot layout 1," << views.size() << " title '" << title << "'\n";
+  for (const auto& v : views) {
+    gp << "set title '" << v << "'\nset xlabel 'ms per frame (GPU)'\nset ylabel 'relMSE'\n"
+       << "plot '" << (dir / "results.csv").string() << "' using ($1 eq '" << v
+       << "' && strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6 with linespoints title 'ray marching 1-64 spp', "
+       << "'' using ($1 eq '" << v << "' && !strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6:2 with labels point pt 7 "
+       << "offset 1,0.5 left notitle\n";
+  }
+  gp << "unset multiplot\n";
+  gp.close();
+  if (std::system(("gnuplot '" + (dir / "plot.gp").string() + "'").c_str()) != 0) {
+    std::cerr << "svo bench: gnuplot failed on " << (dir / "plot.gp").string() << "\n";
+  }
+}
+
+void run_speed_error(const SpeedErrorArgs& a) {
+  check_source_options(a.source, "svo bench speed-error");
+  const std::vector<std::string> views = split(a.views);
+  for (const auto& v : views) {
+    const auto names = render::view_preset_names();
+    if (std::find(names.begin(), names.end(), v) == names.end()) {
+      throw std::invalid_argument("svo bench speed-error: unknown view '" + v + "' (views: far, mid, close)");
+    }
+  }
+  fs::path dir(a.out);
+  fs::create_directories(dir);
+  render::check_writable_output((dir / "results.csv").string());
+
+  // The octree and the ground truth's geometry, from the same source.
+  ProgressBar bar("bench");
+  voxelizer::VoxelizeOptions vo;
+  vo.resolution = a.resolution;
+  vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, f); };
+  std::unique_ptr<voxelizer::AnalyticScene> scene;
+  std::unique_ptr<reference::Geometry> geometry;
+  octree::Octree tree;
+  if (!a.source.scene.empty()) {
+    scene = make_scene_source(a.source);
+    tree = voxelizer::voxelize(*scene, vo);
+    geometry = reference::scene_geometry(*scene);
+  } else {
+    auto mesh = voxelizer::load_mesh(a.source.input, mesh_options(a.source));
+    tree = voxelizer::voxelize(*mesh, vo);
+    geometry = reference::mesh_geometry(voxelizer::read_mesh(a.source.input, mesh_options(a.source)));
+  }
+
+  vk::ContextOptions co;
+  co.device = a.device;
+  vk::Context context(co);
+  render::GpuRenderer gpu(context, tree);
+  const std::vector<Method> methods = {
+      {"prefiltered", render::Mode::Prefiltered, 1}, {"nearest", render::Mode::Nearest, 1},
+      {"alpha", render::Mode::Alpha, 1},             {"mip", render::Mode::Mip, 1},
+      {"raymarch-1", render::Mode::RayMarch, 1},     {"raymarch-4", render::Mode::RayMarch, 4},
+      {"raymarch-16", render::Mode::RayMarch, 16},   {"raymarch-64", render::Mode::RayMarch, 64}};
+
+  std::vector<Row> rows;
+  nlohmann::json headline = nlohmann::json::object();
+  for (size_t vi = 0; vi < views.size(); ++vi) {
+    const std::string& view = views[vi];
+    render::RenderSettings s;
+    s.width = s.height = a.size;
+    s.camera = render::view_preset(tree, view);
+    s.shadows = a.shadows;
+    reference::ReferenceSettings rs;
+    rs.render = s;
+    rs.spp = a.reference_spp;
+    rs.progress = [&](double f) { bar.update(view + ": reference", f); };
+    render::Frame truth = reference::render_reference(*geometry, rs);
+    render::write_colour((dir / (view + "-reference.exr")).string(), truth);
+    const render::Image truth_image = as_image(truth);
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+      const Method& m = methods[mi];
+      bar.update(view + ": " + m.name, double(mi) / double(methods.size()));
+      s.mode = m.mode;
+      s.spp = m.spp;
+      std::vector<double> ms;
+      render::Frame f;
+      for (uint32_t r = 0; r < std::max(1u, a.repeats); ++r) {
+        f = gpu.render(s);
+        ms.push_back(f.gpu_ms >= 0 ? f.gpu_ms : f.wall_ms);
+      }
+      std::sort(ms.begin(), ms.end());
+      render::write_colour((dir / (view + "-" + m.name + ".png")).string(), f);
+      reference::ImageErrors e = reference::compare_images(as_image(f), truth_image, m.name, "reference");
+      Row row;
+      row.view = view;
+      row.method = m.name;
+      row.spp = m.spp;
+      row.ms = ms[ms.size() / 2];
+      row.us_per_pixel = f.covered_pixels ? row.ms * 1000.0 / double(f.covered_pixels) : 0.0;
+      row.relmse = e.relmse;
+      row.rmse = e.rmse;
+      row.psnr = e.psnr;
+      row.coverage_error = e.coverage_error.value_or(0.0);
+      row.coverage_error_silhouette = e.coverage_error_silhouette.value_or(0.0);
+      rows.push_back(row);
+    }
+    // Headline: speed-up of one pre-filtered cone over supersampled marching at equal error.
+    std::vector<Row> march;
+    const Row* ours = nullptr;
+    for (const auto& r : rows) {
+      if (r.view != view) continue;
+      if (r.method.rfind("raymarch", 0) == 0) march.push_back(r);
+      if (r.method == "prefiltered") ours = &r;
+    }
+    nlohmann::json h = {{"prefiltered_ms", ours->ms}, {"prefiltered_relmse", ours->relmse}};
+    if (auto t = time_at_error(march, ours->relmse)) {
+      h["raymarch_ms_at_equal_error"] = *t;
+      h["speedup"] = *t / ours->ms;
+    } else if (ours->relmse < march.back().relmse) {
+      // More accurate than the most rays tried: the speed-up is at least this.
+      h["speedup_at_least"] = march.back().ms / ours->ms;
+    }
+    headline[view] = h;
+  }
+  bar.finish();
+
+  // CSV, JSON, Markdown, plot.
+  {
+    std::ofstream csv(dir / "results.csv");
+    csv << "view,method,spp,ms,us_per_covered_pixel,relmse,rmse,psnr,coverage_error,coverage_error_silhouette\n";
+    for (const auto& r : rows) {
+      csv << r.view << "," << r.method << "," << r.spp << "," << r.ms << "," << r.us_per_pixel << "," << r.relmse
+          << "," << r.rmse << "," << r.psnr << "," << r.coverage_error << "," << r.coverage_error_silhouette << "\n";
+    }
+  }
+  nlohmann::json j;
+  j["source"] = source_name(a.source);
+  j["resolution"] = a.resolution;
+  j["size"] = a.size;
+  j["reference_spp"] = a.reference_spp;
+  j["device"] = context.info().name;
+  j["headline"] = headline;
+  j["rows"] = nlohmann::json::array();
+  for (const auto& r : rows) {
+    j["rows"].push_back({{"view", r.view}, {"method", r.method}, {"spp", r.spp}, {"ms", r.ms},
+                         {"us_per_covered_pixel", r.us_per_pixel}, {"relmse", r.relmse}, {"rmse", r.rmse},
+                         {"psnr", r.psnr}, {"coverage_error", r.coverage_error},
+                         {"coverage_error_silhouette", r.coverage_error_silhouette}});
+  }
+  std::ofstream(dir / "results.json") << j.dump(2) << "\n";
+  std::ostringstream md;
+  md << "Source " << source_name(a.source) << " at " << a.resolution << "^3, " << a.size << "x" << a.size
+     << ", reference " << a.reference_spp << " spp, device " << context.info().name << ", median of " << a.repeats
+     << " frames.\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    md << "| " << r.view << " | " << r.method << " | " << fmt(r.ms, 1) << " | " << fmt(r.us_per_pixel, 2) << " | "
+       << sci(r.relmse) << " | " << sci(r.rmse) << " | " << fmt(r.coverage_error_silhouette, 3) << " |\n";
+  }
+  md << "\n| view | speed-up of prefiltered over ray marching at equal relMSE |\n|---|---|\n";
+  for (const auto& v : views) {
+    const auto& h = headline[v];
+    md << "| " << v << " | "
+       << (h.contains("speedup")         ? fmt(h["speedup"].get<double>(), 1) + "x"
+           : h.contains("speedup_at_least") ? "at least " + fmt(h["speedup_at_least"].get<double>(), 1) +
+                                                  "x (more accurate than 64 rays per pixel)"
+                                            : std::string("none: less accurate than 1 ray per pixel"))
+       << " |\n";
+  }
+  std::ofstream(dir / "table.md") << md.str();
+  write_plot(dir, views, "speed against error: " + source_name(a.source));
+  std::cout << md.str();
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, int& exit_code) {
+  CLI::App* bench = app.add_subcommand("bench", "Speed against error: tables, CSV, JSON and plots (DESIGN section 9)");
+  bench->require_subcommand(1);
+
+  auto a = std::make_shared<SpeedErrorArgs>();
+  CLI::App* se = bench->add_subcommand(
+      "speed-error",
+      "For each view: GPU time and error against the ground truth (svo reference) of prefiltered, nearest, alpha, "
+      "mip and ray marching of the finest level at 1, 4, 16 and 64 rays per pixel; writes table.md, results.csv, "
+      "results.json, speed-error.png (gnuplot) and the images to --out");
+  add_source_options(*se, a->source);
+  se->add_option("--resolution", a->resolution, "Finest lattice cells per axis of the octree")
+      ->default_val(256)
+      ->check(CLI::Range(16u, 2048u));
+  se->add_option("--views", a->views, "Comma-separated view presets")->default_val("far,mid,close");
+  se->add_option("--size", a->size, "Image width and height, pixels")->default_val(256)->check(CLI::Range(8u, 4096u));
+  se->add_option("--reference-spp", a->reference_spp, "Samples per pixel of the ground truth")
+      ->default_val(256)
+      ->check(CLI::Range(1u, 65536u));
+  se->add_option("--repeats", a->repeats, "Frames per method; the median time is reported")
+      ->default_val(3)
+      ->check(CLI::Range(1u, 100u));
+  se->add_flag("--shadows", a->shadows, "Soft shadows in every method and in the ground truth");
+  se->add_option("--device", a->device, "Vulkan device: index or name substring (see svo devices)");
+  se->add_option("-o,--out", a->out, "Output directory (created)")->default_val("bench-speed-error");
+  se->callback([a, &exit_code] {
+    run_speed_error(*a);
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,100 @@
+// svo compare: error figures of an image against a reference (DESIGN
+// section 9), optionally a false-colour picture of the error.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "svo/reference/compare.h"
+#include "svo/render/image_io.h"
+
+namespace svo::tools {
+
+namespace {
+
+struct CompareArgs {
+  std::string image;
+  std::string reference;
+  std::string diff;
+  double diff_scale = 0;
+  bool json = false;
+};
+
+nlohmann::json optional_json(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand(
+      "compare",
+      "Error of image A against reference B in linear radiance (EXR as written; PNG decoded from sRGB): RMSE, "
+      "relMSE (pbrt-v4's MRSE, (a-b)^2/(b+0.01)^2), PSNR (peak 1), max error, and coverage error (mean |alpha "
+      "difference|, overall and on B's silhouette pixels: alpha in (0.02, 0.98) or a 4-neighbour's alpha more "
+      "than 0.5 away)");
+  auto a = std::make_shared<CompareArgs>();
+  cmd->add_option("A", a->image, "The image to judge (e.g. svo render's .exr)")->required()->group("Input");
+  cmd->add_option("B", a->reference, "The reference (e.g. svo reference's .exr)")->required()->group("Input");
+  cmd->add_flag("--json", a->json,
+                "Print one JSON object on stdout: rmse, relmse, psnr (null when the colours are identical), "
+                "max_error, coverage_error, coverage_error_silhouette, silhouette_pixels (coverage figures null "
+                "without alpha), width, height")
+      ->group("Output");
+  cmd->add_option("--diff", a->diff,
+                  "Also write the per-pixel error sqrt(mean over RGB (a-b)^2) in false colour (.png or .exr): "
+                  "black 0, purple, orange, pale yellow at the scale")
+      ->group("Output");
+  cmd->add_option("--diff-scale", a->diff_scale, "Error shown as the top of the colour map (default: the largest)")
+      ->check(CLI::PositiveNumber)
+      ->group("Output");
+
+  cmd->callback([a, &exit_code] {
+    if (!a->diff.empty()) {
+      render::image_format(a->diff);
+      render::check_writable_output(a->diff);
+    }
+    const render::Image image = render::read_image(a->image);
+    const render::Image reference = render::read_image(a->reference);
+    const reference::ImageErrors e = reference::compare_images(image, reference, a->image, a->reference);
+    double scale = a->diff_scale;
+    if (!a->diff.empty()) {
+      if (!(scale > 0)) scale = reference::max_pixel_error(image, reference);
+      render::write_colour(a->diff, reference::error_image(image, reference, scale));
+    }
+    if (a->json) {
+      nlohmann::json out{{"image", a->image},
+                         {"reference", a->reference},
+                         {"width", e.width},
+                         {"height", e.height},
+                         {"rmse", e.rmse},
+                         {"relmse", e.relmse},
+                         {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
+                         {"max_error", e.max_error},
+                         {"coverage_error", optional_json(e.coverage_error)},
+                         {"coverage_error_silhouette", optional_json(e.coverage_error_silhouette)},
+                         {"silhouette_pixels", e.silhouette_pixels},
+                         {"diff", a->diff.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->diff)},
+                         {"diff_scale", a->diff.empty() ? nlohmann::json(nullptr) : nlohmann::json(scale)}};
+      std::cout << out.dump() << "\n";
+    } else {
+      std::cout << std::setprecision(4) << a->image << " vs " << a->reference << " (" << e.width << "x" << e.height
+                << "): RMSE " << e.rmse << ", relMSE " << e.relmse << ", PSNR " << e.psnr << " dB, max error "
+                << e.max_error;
+      if (e.coverage_error) {
+        std::cout << ", coverage error " << *e.coverage_error;
+        if (e.coverage_error_silhouette) {
+          std::cout << " (" << *e.coverage_error_silhouette << " on " << e.silhouette_pixels << " silhouette pixels)";
+        }
+      } else {
+        std::cout << ", no coverage (an image has no alpha)";
+      }
+      std::cout << "\n";
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,147 @@
+// svo reference: ground truth from the source geometry (never the octree),
+// DESIGN section 9. The .svo file records nothing about its source, so the
+// source is named again (mesh file or --scene, with the same --colour and
+// --roughness as svo voxelize); --octree only supplies what svo render took
+// from the file: the view presets, the micro-BRDF roughness it was built
+// with and the centre the point-light defaults refer to.
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "commands.h"
+#include "progress.h"
+#include "source_options.h"
+#include "svo/octree/svo_file.h"
+#include "svo/reference/reference.h"
+#include "svo/render/image_io.h"
+#include "view_options.h"
+
+namespace svo::tools {
+
+namespace {
+
+struct ReferenceArgs {
+  SourceOptions source;
+  std::string output;
+  std::string octree;
+  ViewOptions view;
+  uint32_t spp = 64;
+  uint64_t seed = 1;
+  bool json = false;
+};
+
+}  // namespace
+
+void add_reference_command(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand(
+      "reference",
+      "Ground truth: ray trace the source geometry (procedural scenes by sphere tracing their distance functions, "
+      "meshes with Embree) with N stratified samples over each pixel's cone footprint, the micro-BRDF alone, and "
+      "the lights, shadows and camera of svo render");
+  auto a = std::make_shared<ReferenceArgs>();
+  add_source_options(*cmd, a->source);
+  cmd->add_option("--octree", a->octree,
+                  "The .svo file svo render used: its domain gives --view presets, its micro-BRDF roughness is "
+                  "used unless --roughness is given, its centre anchors point-light defaults")
+      ->group("Input");
+
+  cmd->add_option("-o,--output", a->output,
+                  "Image: .exr (float linear RGB, A = covered fraction; what svo compare needs) or .png (8-bit "
+                  "sRGB, no coverage)")
+      ->required()
+      ->group("Output");
+  add_size_options(*cmd, a->view);
+  cmd->add_option("--spp", a->spp,
+                  "Samples per pixel: a stratified grid over the footprint disk (a square grid for 4, 16, 64, 256, "
+                  "...)")
+      ->default_val(64)
+      ->check(CLI::Range(1u, 65536u))
+      ->group("Sampling");
+  cmd->add_option("--seed", a->seed, "Seed of the jitter; the same seed gives the same image")
+      ->default_val(1)
+      ->group("Sampling");
+  cmd->add_flag("--json", a->json,
+                "Print one JSON object on stdout: seconds, spp, width, height, covered_pixels, sigma_rho2, camera, "
+                "lights, ...")
+      ->group("Output");
+  add_camera_options(*cmd, a->view);
+  add_light_options(*cmd, a->view);
+
+  cmd->callback([a, &exit_code] {
+    // --- Everything that can be checked before the source is read.
+    check_source_options(a->source, "reference");
+    std::optional<render::Camera> camera = check_view_options(a->view);
+    if (!camera && a->octree.empty()) {
+      throw std::invalid_argument("reference: --view " + a->view.preset +
+                                  " needs --octree FILE.svo (the presets come from an octree's domain), or give "
+                                  "--camera or --camera-file");
+    }
+    render::image_format(a->output);
+    render::check_writable_output(a->output);
+
+    // --- The source, the octree's view and the settings.
+    auto start = std::chrono::steady_clock::now();
+    std::optional<octree::Octree> tree;
+    if (!a->octree.empty()) tree = octree::load_svo(a->octree);
+    std::unique_ptr<voxelizer::AnalyticScene> scene;
+    std::unique_ptr<reference::Geometry> geometry;
+    if (!a->source.scene.empty()) {
+      scene = make_scene_source(a->source);
+      if (tree && a->source.roughness < 0) scene->set_sigma_rho2(tree->sigma_rho2);
+      geometry = reference::scene_geometry(*scene);
+    } else {
+      voxelizer::TriangleMesh mesh = voxelizer::read_mesh(a->source.input, mesh_options(a->source));
+      if (tree && a->source.roughness < 0) mesh.sigma_rho2 = tree->sigma_rho2;
+      geometry = reference::mesh_geometry(std::move(mesh));
+    }
+    const voxelizer::Box bounds = geometry->bounds();
+    // The domain's centre, as svo voxelize centres the domain on the bounds.
+    const glm::vec3 centre = tree ? tree->origin + glm::vec3(0.5f * tree->size) : 0.5f * (bounds.lo + bounds.hi);
+    reference::ReferenceSettings settings;
+    settings.render.width = a->view.width;
+    settings.render.height = a->view.height;
+    settings.render.camera = resolve_camera(a->view, camera, tree ? &*tree : nullptr);
+    settings.render.shadows = a->view.shadows;
+    settings.render.lights = make_lights(a->view, centre);
+    settings.spp = a->spp;
+    settings.seed = a->seed;
+    tree.reset();  // only its view and roughness were needed
+
+    // --- Trace.
+    ProgressBar bar("reference");
+    settings.progress = [&bar](double f) { bar.update("tracing", f); };
+    render::Frame frame = reference::render_reference(*geometry, settings);
+    bar.finish();
+    render::write_colour(a->output, frame);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string source = source_name(a->source);
+    if (a->json) {
+      nlohmann::json out{{"source", source},
+                         {"output", a->output},
+                         {"octree", a->octree.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->octree)},
+                         {"width", frame.width},
+                         {"height", frame.height},
+                         {"spp", settings.spp},
+                         {"seed", settings.seed},
+                         {"seconds", seconds},
+                         {"trace_seconds", frame.wall_ms / 1000.0},
+                         {"covered_pixels", frame.covered_pixels},
+                         {"view", view_name(a->view)},
+                         {"sigma_rho2", json_float(geometry->sigma_rho2())},
+                         {"shadows", settings.render.shadows},
+                         {"lights", lights_json(settings.render.lights)},
+                         {"camera", camera_json(settings.render.camera)}};
+      std::cout << out.dump() << "\n";
+    } else {
+      std::cout << std::fixed << std::setprecision(1) << source << " -> " << a->output << ": " << frame.width << "x"
+                << frame.height << ", " << settings.spp << " spp, view " << view_name(a->view) << ", " << seconds
+                << " s, " << frame.covered_pixels << " covered pixels\n";
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,41 @@
+// The options that name a surface source, shared by svo voxelize and svo
+// reference so that the octree and its ground truth are made from the same
+// words: a mesh file or --scene NAME, and the appearance a mesh does not
+// carry (--colour, --roughness).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "svo/voxelizer/mesh.h"
+#include "svo/voxelizer/scenes.h"
+
+namespace svo::tools {
+
+struct SourceOptions {
+  std::string input;          // mesh file
+  std::string scene;          // --scene NAME
+  std::vector<float> colour;  // --colour R,G,B (empty: the mesh's or the default)
+  float roughness = -1;       // --roughness sigma_rho (< 0: the source's own)
+};
+
+// The positional mesh file and --scene (group Input); --colour and
+// --roughness (group Appearance).
+void add_source_options(CLI::App& cmd, SourceOptions& o);
+
+// Throws std::invalid_argument "<command>: give a mesh file or --scene NAME"
+// unless exactly one is given.
+void check_source_options(const SourceOptions& o, const std::string& command);
+
+// "scene NAME" or the mesh path, for messages and reports.
+std::string source_name(const SourceOptions& o);
+
+// The procedural scene of --scene, with --roughness applied. Throws for an unknown name.
+std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o);
+
+// --colour and --roughness as mesh options.
+voxelizer::MeshOptions mesh_options(const SourceOptions& o);
+
+}  // namespace svo::tools

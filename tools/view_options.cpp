@@ -1,0 +1,141 @@
+#include "view_options.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <sstream>
+
+#include "svo/render/camera.h"
+
+namespace svo::tools {
+
+namespace {
+
+// "--dof A,F" as the user wrote it, for messages; empty without --dof.
+std::string dof_text(const ViewOptions& o) {
+  if (o.dof.size() != 2) return "";
+  std::ostringstream s;
+  s << "--dof " << o.dof[0] << "," << o.dof[1];
+  return s.str();
+}
+
+}  // namespace
+
+void add_size_options(CLI::App& cmd, ViewOptions& o) {
+  cmd.add_option("--width", o.width, "Image width, pixels")
+      ->default_val(512)
+      ->check(CLI::Range(1u, 16384u))
+      ->group("Output");
+  cmd.add_option("--height", o.height, "Image height, pixels")
+      ->default_val(512)
+      ->check(CLI::Range(1u, 16384u))
+      ->group("Output");
+}
+
+void add_camera_options(CLI::App& cmd, ViewOptions& o) {
+  auto* view = cmd.add_option("--view", o.preset,
+                              "Camera preset from the octree's bounds: far (whole domain), mid (3x closer), close "
+                              "(a few voxels from the surface)")
+                   ->default_val("far")
+                   ->group("Camera");
+  auto* camera = cmd.add_option("--camera", o.camera,
+                                "Camera ex,ey,ez,tx,ty,tz,ux,uy,uz,fov: eye, target, up, vertical fov in (0, 180) "
+                                "degrees")
+                     ->group("Camera");
+  auto* camera_file = cmd.add_option("--camera-file", o.camera_file,
+                                     "Camera from JSON: {\"eye\":[x,y,z],\"target\":[..],\"up\":[..],\"fov\":deg,"
+                                     "\"aperture\":r,\"focus\":d} (aperture and focus optional)")
+                          ->group("Camera");
+  view->excludes(camera)->excludes(camera_file);
+  camera->excludes(camera_file);
+  cmd.add_option("--dof", o.dof, "Thin lens APERTURE,FOCUS: lens radius >= 0 and focus distance > 0, scene units")
+      ->delimiter(',')
+      ->expected(2)
+      ->group("Camera");
+}
+
+void add_light_options(CLI::App& cmd, ViewOptions& o) {
+  cmd.add_flag("--shadows", o.shadows, "Soft shadows from each light's extent")->group("Shading");
+  cmd.add_option("--light", o.lights,
+                 "A light, repeatable up to " + std::to_string(render::kMaxLights) +
+                     " (default: dir:0.4,0.8,0.6):\n"
+                     "dir:X,Y,Z[,IRRADIANCE[,ANGLE]] towards (X,Y,Z), irradiance default 3, angular radius "
+                     "default 0.02 rad;\n"
+                     "point:X,Y,Z[,INTENSITY[,RADIUS]] at (X,Y,Z), default intensity gives irradiance 3 at the "
+                     "domain centre, radius default 1% of the distance to it")
+      ->allow_extra_args(false)  // one light per --light, so that FILE may follow it
+      ->group("Shading");
+}
+
+bool uses_preset(const ViewOptions& o) { return o.camera.empty() && o.camera_file.empty(); }
+
+std::string view_name(const ViewOptions& o) {
+  if (uses_preset(o)) return o.preset;
+  return o.camera.empty() ? "camera-file" : "camera";
+}
+
+std::optional<render::Camera> check_view_options(const ViewOptions& o) {
+  const auto presets = render::view_preset_names();
+  if (uses_preset(o) && std::find(presets.begin(), presets.end(), o.preset) == presets.end()) {
+    throw std::invalid_argument("unknown view '" + o.preset + "' (views: far, mid, close)");
+  }
+  if (o.lights.size() > size_t(render::kMaxLights)) {
+    throw std::invalid_argument("--light given " + std::to_string(o.lights.size()) + " times, at most " +
+                                std::to_string(render::kMaxLights));
+  }
+  for (const auto& light : o.lights) render::parse_light(light, glm::vec3(0));  // syntax only
+  if (o.dof.size() == 2) {
+    if (!(o.dof[0] >= 0)) throw std::invalid_argument(dof_text(o) + ": aperture must be >= 0");
+    if (!(o.dof[1] > 0)) throw std::invalid_argument(dof_text(o) + ": focus must be > 0");
+  }
+  std::optional<render::Camera> camera;
+  if (!o.camera.empty()) camera = render::parse_camera(o.camera);
+  if (!o.camera_file.empty()) camera = render::load_camera_json(o.camera_file);
+  return camera;
+}
+
+render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree) {
+  if (!given) {
+    if (!tree) throw std::invalid_argument("view preset '" + o.preset + "' needs an octree");
+    given = render::view_preset(*tree, o.preset, float(o.width) / float(o.height));
+  }
+  if (o.dof.size() == 2) {
+    given->aperture = o.dof[0];
+    given->focus = o.dof[1];
+    render::validate_camera(*given, dof_text(o));
+  }
+  return *given;
+}
+
+std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre) {
+  if (o.lights.empty()) return render::RenderSettings{}.lights;
+  std::vector<render::Light> lights;
+  for (const auto& light : o.lights) lights.push_back(render::parse_light(light, scene_centre));
+  return lights;
+}
+
+double json_float(float v) {
+  char text[32];
+  auto end = std::to_chars(text, text + sizeof text, v).ptr;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
+
+nlohmann::json vec_json(glm::vec3 v) { return {json_float(v.x), json_float(v.y), json_float(v.z)}; }
+
+nlohmann::json camera_json(const render::Camera& c) {
+  return {{"eye", vec_json(c.eye)},       {"target", vec_json(c.target)},       {"up", vec_json(c.up)},
+          {"fov", json_float(c.fov_deg)}, {"aperture", json_float(c.aperture)}, {"focus", json_float(c.focus)}};
+}
+
+nlohmann::json lights_json(const std::vector<render::Light>& lights) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& l : lights) {
+    out.push_back({{"type", l.point ? "point" : "directional"},
+                   {"vector", vec_json(l.vector)},
+                   {"radiance", vec_json(l.radiance)},
+                   {"size", json_float(l.size)}});
+  }
+  return out;
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,67 @@
+// The options svo render and svo reference share, so that a frame and its
+// ground truth are asked for with the same words and see the same view:
+// image size, camera (preset, text, file, depth of field), lights, shadows;
+// and the JSON forms of cameras and lights in their reports.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "svo/octree/octree.h"
+#include "svo/render/renderer.h"
+
+namespace svo::tools {
+
+struct ViewOptions {
+  uint32_t width = 512;
+  uint32_t height = 512;
+  std::string preset = "far";  // --view
+  std::string camera;          // --camera text
+  std::string camera_file;     // --camera-file path
+  std::vector<float> dof;      // --dof APERTURE,FOCUS (empty: pinhole)
+  bool shadows = false;
+  std::vector<std::string> lights;  // --light texts
+};
+
+// --width and --height (group Output).
+void add_size_options(CLI::App& cmd, ViewOptions& o);
+// --view, --camera, --camera-file (mutually exclusive) and --dof (group Camera).
+void add_camera_options(CLI::App& cmd, ViewOptions& o);
+// --shadows and --light (group Shading).
+void add_light_options(CLI::App& cmd, ViewOptions& o);
+
+// Checks everything that needs neither an octree nor a device: the preset's
+// name, the lights' count and syntax, the depth of field, and reads --camera
+// or --camera-file. Returns that camera, or nullopt when a preset is asked for.
+// @throw std::invalid_argument / std::runtime_error as one line naming the option.
+std::optional<render::Camera> check_view_options(const ViewOptions& o);
+
+// Whether the camera comes from a preset (neither --camera nor --camera-file).
+bool uses_preset(const ViewOptions& o);
+
+// How the camera was given, for reports: the preset's name, "camera" or "camera-file".
+std::string view_name(const ViewOptions& o);
+
+// The camera: `given` (from check_view_options) or the preset of `tree`
+// (required then), with --dof applied.
+// @throw std::invalid_argument for a camera --dof makes invalid; what view_preset throws.
+render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree);
+
+// The lights of --light (RenderSettings' default light when none is given);
+// point-light defaults are relative to `scene_centre`.
+std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre);
+
+// A float as the shortest decimal that reads back as the same float (0.1, not 0.10000000149011612).
+double json_float(float v);
+nlohmann::json vec_json(glm::vec3 v);
+// {"eye", "target", "up", "fov", "aperture", "focus"}, as --save-camera writes.
+nlohmann::json camera_json(const render::Camera& c);
+// [{"type", "vector", "radiance", "size"}, ...]
+nlohmann::json lights_json(const std::vector<render::Light>& lights);
+
+}  // namespace svo::tools
