@@ -33,11 +33,11 @@ awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1; next} nv>0{print "v",$1,$2,$
 echo "Machine: $(nproc) cores, $(awk '/model name/ {sub(/.*: /, ""); print; exit}' /proc/cpuinfo); device: $("$SVO" devices --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["devices"][0]["name"])')"
 "$SVO" voxelize --scene bumpy-sphere --resolution "$RES" -o "$WORK/bumpy-sphere.svo" > /dev/null
 "$SVO" voxelize "$OFF" --resolution "$RES" -o "$WORK/bunny.svo" > /dev/null
-vdb_tool -read "$WORK/bunny.obj" -mesh2ls dim=$((RES - 8)) -write "$WORK/bunny.vdb" > /dev/null
+vdb_tool -read "$WORK/bunny.obj" -mesh2ls dim=$((RES - 8)) -write "$WORK/bunny.vdb" > /dev/null 2>&1
 
 echo
-echo "| scene | view | mode | shadows | ms | us per covered pixel | steps per pixel | covered pixels |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| scene | view | mode | shadows | ms | us per covered pixel | us per pixel | steps per pixel | covered pixels |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for scene in bumpy-sphere bunny; do
   for view in far mid close; do
     for mode in prefiltered nearest alpha mip; do
@@ -50,8 +50,9 @@ import json, sys
 scene, view, mode, shadows, path = sys.argv[1:]
 j = json.load(open(path))
 us = j["us_per_pixel"]
-print(f"| {scene} | {view} | {mode} | {shadows} | {j['ms']:.0f} | {us:.2f} | {j['steps_per_pixel']:.1f} | {j['covered_pixels']:,} |" if us is not None
-      else f"| {scene} | {view} | {mode} | {shadows} | {j['ms']:.0f} | - | {j['steps_per_pixel']:.1f} | 0 |")
+per = j["ms"] * 1000 / (j["width"] * j["height"])
+print(f"| {scene} | {view} | {mode} | {shadows} | {j['ms']:.0f} | {us:.2f} | {per:.2f} | {j['steps_per_pixel']:.1f} | {j['covered_pixels']:,} |" if us is not None
+      else f"| {scene} | {view} | {mode} | {shadows} | {j['ms']:.0f} | - | {per:.2f} | {j['steps_per_pixel']:.1f} | 0 |")
 PY
       done
     done
