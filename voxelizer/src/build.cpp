@@ -433,6 +433,23 @@ struct Builder {
                     float far = float(1.5 * level.voxel) - h;
                     v.hbar = one[0].distance < 0 ? -far : far;
                     v.abar = colour_mean;
+                    // The plane of the nearest coarser filled point, carried to p:
+                    // trilinear interpolation mixes this point with filled
+                    // ones, and a placeholder normal there would tilt their
+                    // planes (phantom coverage beside silhouettes).
+                    glm::dvec3 at = glm::dvec3(p) * level.voxel;
+                    for (uint32_t up = job.depth; up-- > 0;) {
+                      const Level& coarse = levels[up];
+                      glm::ivec3 q = glm::ivec3(glm::round(at / coarse.voxel));
+                      auto it = coarse.filled.find(pack(q));
+                      if (it == coarse.filled.end()) continue;
+                      const octree::Voxel& u = coarse.stats[it->second];
+                      float e = u.hbar + float(glm::dot(glm::dvec3(u.nbar), at - glm::dvec3(q) * coarse.voxel));
+                      v.nbar = u.nbar;
+                      v.abar = u.abar;
+                      if ((e < 0) == (v.hbar < 0) && std::abs(e) > far) v.hbar = e;
+                      break;
+                    }
                   }
                 }
                 octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
