@@ -12,23 +12,15 @@ SVO="${SVO:-$ROOT/build/svo}"
 RES="${1:-512}"
 SIZE="${2:-512}"
 
-need=()
-for p in libcgal-demo libopenvdb-tools; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
-done
-if ((${#need[@]})); then
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
-fi
+source "$ROOT/scripts/bench_common.sh"
+need_packages libcgal-demo libopenvdb-tools
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 OUT="${3:-$WORK/images}"
 mkdir -p "$OUT"
-tar xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$WORK" data/meshes/bunny00.off
+extract_bunny "$WORK"
 OFF="$WORK/data/meshes/bunny00.off"
-awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
-  "$OFF" > "$WORK/bunny.obj"
 
 echo "Machine: $(nproc) cores, $(awk '/model name/ {sub(/.*: /, ""); print; exit}' /proc/cpuinfo); device: $("$SVO" devices --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["devices"][0]["name"])')"
 "$SVO" voxelize --scene bumpy-sphere --resolution "$RES" -o "$WORK/bumpy-sphere.svo" > /dev/null

@@ -10,22 +10,13 @@ SVO="${SVO:-$ROOT/build/svo}"
 RESOLUTIONS=("$@")
 [ ${#RESOLUTIONS[@]} -eq 0 ] && RESOLUTIONS=(512 1024)
 
-need=()
-for p in libcgal-demo libopenvdb-tools time; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
-done
-if ((${#need[@]})); then
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
-fi
+source "$ROOT/scripts/bench_common.sh"
+need_packages libcgal-demo libopenvdb-tools time
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
-tar xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$WORK" data/meshes/bunny00.off
+extract_bunny "$WORK"
 OFF="$WORK/data/meshes/bunny00.off"
-# vdb_tool reads OBJ, not OFF: the same vertices and triangles.
-awk 'NF==0{next} /^OFF/{next} !h{nv=$1; nf=$2; h=1; next} nv>0{print "v",$1,$2,$3; nv--; next} nf>0{print "f",$2+1,$3+1,$4+1; nf--}' \
-  "$OFF" > "$WORK/bunny.obj"
 
 # The same mesh with vertex colours, smooth functions of position: one that
 # varies fast (it correlates with height inside coarse voxels, so a_s is
