@@ -1,6 +1,8 @@
 // Synthetic octrees and file helpers for the octree tests.
 #pragma once
 
+#include "../render/temp_dir.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -34,19 +36,6 @@ void fill_random(std::vector<uint8_t>& bytes, uint64_t seed);
 std::vector<uint8_t> read_bytes(const std::filesystem::path& path);
 void write_bytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes);
 
-// A fresh directory under the system temporary directory, removed with its
-// contents on destruction.
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using svo::testing::TempDir;  // ../render/temp_dir.h
 
 }  // namespace svo::octree::testing

@@ -1,4 +1,5 @@
-// A fresh directory for a test, removed with its contents on destruction.
+// A fresh directory for a test under the system temporary directory,
+// removed with its contents on destruction (the octree and render tests).
 #pragma once
 
 #include <stdlib.h>
@@ -8,12 +9,12 @@
 #include <stdexcept>
 #include <string>
 
-namespace svo::render::testing {
+namespace svo::testing {
 
 class TempDir {
  public:
   TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "svo-render-test-XXXXXX").string();
+    std::string pattern = (std::filesystem::temp_directory_path() / "svo-test-XXXXXX").string();
     if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed for " + pattern);
     path_ = pattern;
   }
@@ -31,4 +32,8 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+}  // namespace svo::testing
+
+namespace svo::render::testing {
+using svo::testing::TempDir;
 }  // namespace svo::render::testing
