@@ -435,7 +435,7 @@ struct Builder {
                     v.abar = colour_mean;
                     // The plane of the nearest coarser filled point, carried to p:
                     // trilinear interpolation mixes this point with filled
-                    // ones, and a placeholder normal there would tilt their
+                    // ones, and an arbitrary normal there would tilt their
                     // planes (phantom coverage beside silhouettes).
                     glm::dvec3 at = glm::dvec3(p) * level.voxel;
                     for (uint32_t up = job.depth; up-- > 0;) {
