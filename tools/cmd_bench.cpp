@@ -356,7 +356,8 @@ void run_material(const MaterialArgs& a) {
       gp << (c ? ", " : "") << "f every ::1 using 1:" << 2 + c << " with lines lw 2 lc '" << colours[c]
          << "' title 'ground truth " << names[c] << "', f every ::1 using 1:" << 5 + c << " with points pt 7 lc '"
          << colours[c] << "' title 'Eq. 17', f every ::1 using 1:" << 8 + c << " with lines dt 2 lc '" << colours[c]
-         << "' title 'MIP'";
+         << "' title 'MIP', f every ::1 using 1:" << 11 + c << " with points pt 2 lc '" << colours[c]
+         << "' title 'engine (one cone)'";
     }
     gp << "\n";
     gp.close();
