@@ -105,11 +105,16 @@ std::string sci(double v) {
   return buf;
 }
 
-void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
+// Runs gnuplot on `script`; says why on stderr when there is no plot.
+void run_gnuplot(const fs::path& script) {
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
     std::cerr << "svo bench: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
-    return;
+  } else if (std::system(("gnuplot '" + script.string() + "'").c_str()) != 0) {
+    std::cerr << "svo bench: gnuplot failed on " << script.string() << "\n";
   }
+}
+
+void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
   std::ofstream gp(dir / "plot.gp");
   gp << "set terminal pngcairo size 1200,420 font 'sans,10'\nset output '" << (dir / "speed-error.png").string()
      << "'\nset datafile separator ','\nset logscale xy\nset key bottom left\nset grid\n"
@@ -123,9 +128,7 @@ void write_plot(const fs::path& dir, const std::vector<std::string>& views, cons
   }
   gp << "unset multiplot\n";
   gp.close();
-  if (std::system(("gnuplot '" + (dir / "plot.gp").string() + "'").c_str()) != 0) {
-    std::cerr << "svo bench: gnuplot failed on " << (dir / "plot.gp").string() << "\n";
-  }
+  run_gnuplot(dir / "plot.gp");
 }
 
 void run_speed_error(const SpeedErrorArgs& a) {
@@ -345,7 +348,7 @@ void run_material(const MaterialArgs& a) {
   bar.finish();
   csv.close();
   std::ofstream(dir / "table.md") << md.str();
-  if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
+  {
     std::ofstream gp(dir / "material.gp");
     gp << "set terminal pngcairo size 900,500 font 'sans,10'\nset output '" << (dir / "material.png").string()
        << "'\nset datafile separator ','\nset key top left\nset grid\nset xlabel 'view angle (degrees)'\n"
@@ -360,13 +363,8 @@ void run_material(const MaterialArgs& a) {
          << "' title 'engine (one cone)'";
     }
     gp << "\n";
-    gp.close();
-    if (std::system(("gnuplot '" + (dir / "material.gp").string() + "'").c_str()) != 0) {
-      std::cerr << "svo bench: gnuplot failed on " << (dir / "material.gp").string() << "\n";
-    }
-  } else {
-    std::cerr << "svo bench: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
   }
+  run_gnuplot(dir / "material.gp");
   std::cout << md.str();
 }
 

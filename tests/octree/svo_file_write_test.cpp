@@ -16,13 +16,8 @@ namespace {
 namespace fs = std::filesystem;
 using testing::make_test_tree;
 using testing::TempDir;
+using svo::testing::names_in;
 
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 TEST(SvoWrite, ReplacesExistingFileAndLeavesNoTemporary) {
   TempDir dir;

@@ -22,13 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::TempDir;
+using testing::names_in;
 
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

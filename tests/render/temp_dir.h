@@ -5,9 +5,11 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace svo::testing {
 
@@ -32,8 +34,17 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// The names of the entries of `dir`, sorted (to check that nothing else was left there).
+inline std::vector<std::string> names_in(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 }  // namespace svo::testing
 
 namespace svo::render::testing {
+using svo::testing::names_in;
 using svo::testing::TempDir;
 }  // namespace svo::render::testing
