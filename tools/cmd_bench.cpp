@@ -121,10 +121,11 @@ void write_plot(const fs::path& dir, const std::vector<std::string>& views, cons
      << "set multiplot layout 1," << views.size() << " title '" << title << "'\n";
   for (const auto& v : views) {
     gp << "set title '" << v << "'\nset xlabel 'ms per frame (GPU)'\nset ylabel 'relMSE'\n"
-       << "plot '" << (dir / "results.csv").string() << "' using ($1 eq '" << v
+       << "plot '" << (dir / "results.csv").string() << "' every ::1 using (stringcolumn(1) eq '" << v
        << "' && strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6 with linespoints title 'ray marching 1-64 spp', "
-       << "'' using ($1 eq '" << v << "' && !strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6:2 with labels point pt 7 "
-       << "offset 1,0.5 left notitle\n";
+       << "'' every ::1 using (stringcolumn(1) eq '" << v
+       << "' && !strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6:2 with labels point pt 7 offset 1,0.5 left "
+       << "notitle\n";
   }
   gp << "unset multiplot\n";
   gp.close();
