@@ -19,6 +19,7 @@ namespace {
 
 constexpr uint32_t kPoolSlots = 8;  // SVO_POOL_SLOTS in trace_main.glsl
 constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y
+constexpr uint32_t kRaysPerDispatch = 16;  // raymarch: rays per pixel in one dispatch, at most
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
@@ -105,8 +106,53 @@ class TracePass : public Pass {
       const size_t slots = access_ == std::string("single") ? 1 : kPoolSlots;
       for (size_t s = 0; s < slots; ++s) bound.push_back(&pools_[std::min(s, pools_.size() - 1)]);
     }
-    return kernel_->dispatch(bound, nullptr, (settings.width + kGroup - 1) / kGroup,
-                             (settings.height + kGroup - 1) / kGroup);
+    const uint32_t gx = (settings.width + kGroup - 1) / kGroup, gy = (settings.height + kGroup - 1) / kGroup;
+    // Many rays per pixel (raymarch): a few rows of the ray grid per
+    // dispatch, averaged here. Lavapipe ends all loops of an invocation
+    // after 65,535 iterations in total, which 64 rays of a long march can
+    // reach (the picture then breaks in 8 x 8 blocks).
+    const uint32_t n = uint32_t(p.lens.w);
+    const uint32_t rows = settings.mode == Mode::RayMarch ? std::max(1u, kRaysPerDispatch / n) : n;
+    if (rows >= n) return kernel_->dispatch(bound, nullptr, gx, gy);
+    std::vector<glm::vec4> colour(pixels, glm::vec4(0)), g(settings.gbuffer ? 3 * pixels : 0, glm::vec4(0));
+    std::vector<uint32_t> steps(pixels, 0);
+    double ms = 0;
+    for (uint32_t first = 0; first < n; first += rows) {
+      p.lens.z = float(first);
+      p.lens.w = float(std::min(rows, n - first));
+      std::memcpy(params_.data(), &p, sizeof p);
+      double part = kernel_->dispatch(bound, nullptr, gx, gy);
+      ms = part < 0 || ms < 0 ? -1 : ms + part;
+      const float w = p.lens.w / float(n);
+      auto c = images.existing("colour").as<glm::vec4>();
+      auto st = images.existing("steps").as<uint32_t>();
+      auto gb = images.existing("gbuffer").as<glm::vec4>();
+      for (size_t i = 0; i < pixels; ++i) {
+        colour[i] += w * c[i];
+        steps[i] += st[i];
+        if (settings.gbuffer) {
+          // G-buffer fields are coverage-weighted averages.
+          const float cw = w * c[i].a;
+          g[3 * i] += cw * gb[3 * i];
+          g[3 * i + 1] += cw * gb[3 * i + 1];
+          g[3 * i + 2] += glm::vec4(cw * glm::vec3(gb[3 * i + 2]), 0.0f);
+        }
+      }
+    }
+    auto c = images.existing("colour").as<glm::vec4>();
+    auto st = images.existing("steps").as<uint32_t>();
+    auto gb = images.existing("gbuffer").as<glm::vec4>();
+    for (size_t i = 0; i < pixels; ++i) {
+      c[i] = colour[i];
+      st[i] = steps[i];
+      if (settings.gbuffer) {
+        const float inv = colour[i].a > 0 ? 1.0f / colour[i].a : 0.0f;
+        gb[3 * i] = inv * g[3 * i];
+        gb[3 * i + 1] = inv * g[3 * i + 1];
+        gb[3 * i + 2] = glm::vec4(inv * glm::vec3(g[3 * i + 2]), colour[i].a);
+      }
+    }
+    return ms;
   }
 
   size_t pool_bytes() const { return pool_bytes_; }

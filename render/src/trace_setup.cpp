@@ -172,7 +172,7 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   if (s.spp == 0 || root * root != s.spp || s.spp > 4096) {
     throw std::invalid_argument("rays per pixel must be a square in [1, 4096], got " + std::to_string(s.spp));
   }
-  p.lens = glm::vec4(c.focus, float(s.spp), 0, 0);
+  p.lens = glm::vec4(c.focus, float(s.spp), 0, float(root));
   p.domain = glm::vec4(tree.origin, tree.size);
   p.material = glm::vec4(tree.sigma_rho2, s.specular, tree.voxel_size(tree.depth_count - 1), 0);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);

@@ -161,7 +161,7 @@ SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
   vec3 f = c - i0f;
   uvec3 i0 = uvec3(i0f);
   SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
-  for (uint k = 1u; k < 8u; ++k) {
+  SVO_UNROLL for (uint k = 1u; k < 8u; ++k) {
     uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
     vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
     r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
@@ -561,6 +561,11 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   uint mode = params.image.z;
   bool march = mode == SVO_MODE_RAYMARCH;
   uint n = march ? uint(floor(sqrt(max(params.lens.y, 1.0f)) + 0.5f)) : 1u;
+  // Rows [first, first + rows) of the n x n grid of rays (lens.z, lens.w):
+  // hosts split many rays over several dispatches (lavapipe ends every
+  // loop of an invocation after 65,535 iterations in all).
+  uint first = march ? uint(params.lens.z) : 0u;
+  uint rows = march ? min(uint(params.lens.w), n - min(first, n)) : 1u;
   // One loop for both, so that the shader holds one copy of the tracer.
   float k = march ? 0.0f : params.eye.w;
   uint cone_mode = march ? SVO_MODE_PREFILTERED : mode;
@@ -572,7 +577,7 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   sum.g1 = vec4(0.0f);
   sum.g2 = vec4(0.0f);
   sum.steps = 0u;
-  for (uint j = 0u; j < n; ++j) {
+  for (uint j = first; j < first + rows; ++j) {
     for (uint i = 0u; i < n; ++i) {
       vec2 u = (vec2(float(i), float(j)) + 0.5f) / float(n);
       SvoPixel s = svo_trace_cone(vec2(pixel) + 0.5f + radius * svo_concentric_disk(u), k, cone_mode);
@@ -586,10 +591,11 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   }
   float covered = sum.g2.w;
   float inv = covered > 0.0f ? 1.0f / covered : 0.0f;
-  sum.colour *= 1.0f / float(n * n);
+  float count = float(rows * n);
+  sum.colour *= 1.0f / count;
   sum.g0 *= inv;
   sum.g1 *= inv;
-  sum.g2 = vec4(vec3(sum.g2) * inv, covered / float(n * n));
+  sum.g2 = vec4(vec3(sum.g2) * inv, covered / count);
   return sum;
 }
 
