@@ -109,8 +109,9 @@ class TracePass : public Pass {
     const uint32_t gx = (settings.width + kGroup - 1) / kGroup, gy = (settings.height + kGroup - 1) / kGroup;
     // Many rays per pixel (raymarch): a few rows of the ray grid per
     // dispatch, averaged here. Lavapipe ends all loops of an invocation
-    // after 65,535 iterations in total, which 64 rays of a long march can
-    // reach (the picture then breaks in 8 x 8 blocks).
+    // after 65,535 iterations in total, which 64 rays of a march reach (the
+    // picture then breaks in 8 x 8 blocks). Unrolling the trilinear loop
+    // instead costs 1.8x per frame on lavapipe.
     const uint32_t n = uint32_t(p.lens.w);
     const uint32_t rows = settings.mode == Mode::RayMarch ? std::max(1u, kRaysPerDispatch / n) : n;
     if (rows >= n) return kernel_->dispatch(bound, nullptr, gx, gy);

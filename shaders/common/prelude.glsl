@@ -10,13 +10,9 @@
 #ifdef __cplusplus
 #define SVO_FN inline
 #define SVO_CONST constexpr
-#define SVO_UNROLL
 #else
 #define SVO_FN
 #define SVO_CONST const
-// A loop the shader compiler must unroll (GL_EXT_control_flow_attributes,
-// enabled by the kernels that use it).
-#define SVO_UNROLL [[unroll]]
 #endif
 
 SVO_CONST float SVO_PI = 3.14159265358979f;

@@ -161,7 +161,7 @@ SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
   vec3 f = c - i0f;
   uvec3 i0 = uvec3(i0f);
   SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
-  SVO_UNROLL for (uint k = 1u; k < 8u; ++k) {
+  for (uint k = 1u; k < 8u; ++k) {
     uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
     vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
     r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_control_flow_attributes : require
 // The cone tracer over bricks in several storage buffers, chosen by a switch
 // (devices without buffer device addresses).
 #include "trace_main.glsl"
