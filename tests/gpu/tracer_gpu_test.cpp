@@ -40,6 +40,22 @@ class TracerGpu : public testing::Test {
     tree_ = new octree::Octree(test::voxelize(*scene, 128));
   }
   static void TearDownTestSuite() { delete tree_; }
+  static vk::ContextOptions validated() {
+    vk::ContextOptions options;
+    options.validation = true;
+    return options;
+  }
+  // The bumpy sphere from above and aside, `size` pixels square.
+  static RenderSettings view(uint32_t size) {
+    RenderSettings s;
+    s.width = s.height = size;
+    s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+    return s;
+  }
+  static void expect_silent(const vk::Context& context) {
+    auto messages = context.validation_messages();
+    EXPECT_TRUE(messages.empty()) << messages.front();
+  }
   static octree::Octree* tree_;
 };
 octree::Octree* TracerGpu::tree_ = nullptr;
@@ -49,13 +65,9 @@ octree::Octree* TracerGpu::tree_ = nullptr;
 // move a mask lookup to the neighbouring table cell (1/128 of coverage) or
 // a level blend by a hair.
 TEST_F(TracerGpu, AgreesWithTheCpuTracerInEveryMode) {
-  vk::ContextOptions options;
-  options.validation = true;
-  vk::Context context(options);
+  vk::Context context(validated());
   GpuRenderer gpu(context, *tree_);
-  RenderSettings s;
-  s.width = s.height = 48;
-  s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+  RenderSettings s = view(48);
   s.gbuffer = true;
   for (Mode mode : {Mode::Prefiltered, Mode::Nearest, Mode::Alpha, Mode::Mip}) {
     s.mode = mode;
@@ -79,21 +91,16 @@ TEST_F(TracerGpu, AgreesWithTheCpuTracerInEveryMode) {
     EXPECT_GT(compared, 100);
     EXPECT_LT(depth_off, compared / 100 + 1) << mode_name(mode);
   }
-  auto messages = context.validation_messages();
-  EXPECT_TRUE(messages.empty()) << messages.front();
+  expect_silent(context);
 }
 
 // Many rays per pixel: lavapipe ends all loops of an invocation after 65,535
 // iterations in total, which broke 64-ray pixels into wrong 8 x 8 blocks
 // before the renderer split them over several dispatches.
 TEST_F(TracerGpu, RayMarchingWithManyRaysAgreesWithTheCpuTracer) {
-  vk::ContextOptions options;
-  options.validation = true;
-  vk::Context context(options);
+  vk::Context context(validated());
   GpuRenderer gpu(context, *tree_);
-  RenderSettings s;
-  s.width = s.height = 32;
-  s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+  RenderSettings s = view(32);
   s.mode = Mode::RayMarch;
   s.spp = 144;
   s.gbuffer = true;
@@ -106,22 +113,17 @@ TEST_F(TracerGpu, RayMarchingWithManyRaysAgreesWithTheCpuTracer) {
     EXPECT_NEAR(g.gbuffer[i].coverage, c.gbuffer[i].coverage, 0.02f) << "pixel " << i;
     if (g.gbuffer[i].coverage > 0.5f) EXPECT_NEAR(g.gbuffer[i].depth, c.gbuffer[i].depth, 0.01f) << "pixel " << i;
   }
-  auto messages = context.validation_messages();
-  EXPECT_TRUE(messages.empty()) << messages.front();
+  expect_silent(context);
 }
 
 // Bricks split across several buffers render the same image, whether the
 // tracer reads them through device addresses or through separate storage
 // buffers; more buffers than the tracer binds are refused, naming the limit.
 TEST_F(TracerGpu, PoolsSplitAcrossBuffersRenderTheSameImage) {
-  vk::ContextOptions options;
-  options.validation = true;
-  vk::Context context(options);
+  vk::Context context(validated());
   GpuRenderer whole(context, *tree_);
   EXPECT_STREQ(whole.pool_access(), "single");
-  RenderSettings s;
-  s.width = s.height = 32;
-  s.camera = test::looking_at_origin({1.2f, 0.9f, 1.8f}, 40.0f);
+  RenderSettings s = view(32);
   Frame a = whole.render(s);
   // The device pools: (B + 1)^3 samples per brick (the file stores B^3),
   // plus the nodes and the mask table, which are small beside them.
@@ -135,8 +137,7 @@ TEST_F(TracerGpu, PoolsSplitAcrossBuffersRenderTheSameImage) {
     EXPECT_EQ(compare(a, b, 0.0f).max, 0.0) << split.pool_access();
     EXPECT_THROW(GpuRenderer(context, *tree_, {brick_bytes / 9, address}), vk::Error);
   }
-  auto messages = context.validation_messages();
-  EXPECT_TRUE(messages.empty()) << messages.front();
+  expect_silent(context);
 }
 
 }  // namespace

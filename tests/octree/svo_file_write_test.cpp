@@ -16,6 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::make_test_tree;
 using testing::TempDir;
+using svo::testing::FileSizeLimit;
 using svo::testing::names_in;
 
 
@@ -67,20 +68,15 @@ TEST(SvoWrite, ShortWriteKeepsOldFile) {
   write_svo(dir / "scene.svo", old_tree);
   std::vector<uint8_t> old_bytes = testing::read_bytes(dir / "scene.svo");
 
-  rlimit saved{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
-  auto saved_handler = std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG instead of a signal
-  rlimit small = saved;
-  small.rlim_cur = 4096;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   std::string message;
-  try {
-    write_svo(dir / "scene.svo", make_test_tree(2));
-  } catch (const FileError& e) {
-    message = e.what();
+  {
+    FileSizeLimit limit(4096);  // write() then fails with EFBIG
+    try {
+      write_svo(dir / "scene.svo", make_test_tree(2));
+    } catch (const FileError& e) {
+      message = e.what();
+    }
   }
-  ::setrlimit(RLIMIT_FSIZE, &saved);
-  std::signal(SIGXFSZ, saved_handler);
 
   EXPECT_NE(message.find(dir / "scene.svo: cannot write: writing "), std::string::npos) << message;
   EXPECT_NE(message.find("File too large"), std::string::npos) << message;

@@ -22,6 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::TempDir;
+using testing::FileSizeLimit;
 using testing::names_in;
 
 
@@ -220,16 +221,12 @@ TEST(AtomicWrite, FailedWriteKeepsExistingFile) {
   Frame big = test_frame(256, 256);
   for (size_t i = 0; i < big.colour.size(); ++i) big.colour[i].x = float((i * 2654435761u) % 1000003) / 7.0f;
 
-  rlimit saved{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
-  auto saved_handler = std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG instead of a signal
-  rlimit small = saved;
-  small.rlim_cur = 4096;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
-  std::string message = error_of([&] { write_colour(dir / "a.exr", big); });
-  std::string gbuffer_message = error_of([&] { write_gbuffer(dir / "g.exr", big); });
-  ::setrlimit(RLIMIT_FSIZE, &saved);
-  std::signal(SIGXFSZ, saved_handler);
+  std::string message, gbuffer_message;
+  {
+    FileSizeLimit limit(4096);  // write() then fails with EFBIG
+    message = error_of([&] { write_colour(dir / "a.exr", big); });
+    gbuffer_message = error_of([&] { write_gbuffer(dir / "g.exr", big); });
+  }
 
   EXPECT_EQ(message.rfind((dir / "a.exr") + ": cannot write: ", 0), 0u) << message;
   EXPECT_EQ(gbuffer_message.rfind((dir / "g.exr") + ": cannot write: ", 0), 0u) << gbuffer_message;

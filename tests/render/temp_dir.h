@@ -3,9 +3,11 @@
 #pragma once
 
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,30 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// While alive, files this process writes may not grow beyond `bytes`: a
+// write past it fails with EFBIG (SIGXFSZ ignored) instead of killing the
+// test. Restores the limit and the signal handler on destruction.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    if (::getrlimit(RLIMIT_FSIZE, &saved_) != 0) throw std::runtime_error("getrlimit failed");
+    handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = saved_;
+    small.rlim_cur = bytes;
+    if (::setrlimit(RLIMIT_FSIZE, &small) != 0) throw std::runtime_error("setrlimit failed");
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit saved_{};
+  void (*handler_)(int) = SIG_DFL;
+};
+
 // The names of the entries of `dir`, sorted (to check that nothing else was left there).
 inline std::vector<std::string> names_in(const std::filesystem::path& dir) {
   std::vector<std::string> names;
@@ -45,6 +71,7 @@ inline std::vector<std::string> names_in(const std::filesystem::path& dir) {
 }  // namespace svo::testing
 
 namespace svo::render::testing {
+using svo::testing::FileSizeLimit;
 using svo::testing::names_in;
 using svo::testing::TempDir;
 }  // namespace svo::render::testing
