@@ -74,7 +74,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     std::unique_ptr<voxelizer::SurfaceSource> source;
     const std::string what = source_name(a->source);
     if (!a->source.scene.empty()) {
-      source = make_scene_source(a->source);
+      source = make_scene_source(a->source, /*all_octaves=*/false);
     } else {
       source = voxelizer::load_mesh(a->source.input, mesh_options(a->source));
     }

@@ -1,5 +1,6 @@
 #include "source_options.h"
 
+#include <iostream>
 #include <stdexcept>
 
 namespace svo::tools {
@@ -20,24 +21,53 @@ void add_source_options(CLI::App& cmd, SourceOptions& o) {
                  "Micro-BRDF slope deviation sigma_rho (default: the OBJ material's Pr or Ns, else 0.1)")
       ->check(CLI::Range(0.0f, 4.0f))
       ->group("Appearance");
+  cmd.add_option("--detail-octaves", o.detail_octaves,
+                 "Procedural detail: octaves of gradient noise displacing a --scene surface, each half the "
+                 "wavelength and amplitude of the one before; drawn by the renderer below the stored "
+                 "resolution, folded into the statistics above it (0: none)")
+      ->check(CLI::Range(0, 32))
+      ->default_val(0)
+      ->group("Detail");
+  cmd.add_option("--detail-amplitude", o.detail_amplitude, "Amplitude of the first detail octave, scene units")
+      ->check(CLI::PositiveNumber)
+      ->default_val(0.002f)
+      ->group("Detail");
+  cmd.add_option("--detail-wavelength", o.detail_wavelength, "Wavelength of the first detail octave, scene units")
+      ->check(CLI::PositiveNumber)
+      ->default_val(0.02f)
+      ->group("Detail");
+  cmd.add_option("--detail-seed", o.detail_seed, "Seed of the detail noise")->default_val(1)->group("Detail");
 }
 
 void check_source_options(const SourceOptions& o, const std::string& command) {
   if (o.input.empty() == o.scene.empty()) throw std::invalid_argument(command + ": give a mesh file or --scene NAME");
+  if (o.detail_octaves > 0 && o.scene.empty()) {
+    throw std::invalid_argument(command + ": --detail-octaves needs --scene (detail octaves displace the built-in scenes)");
+  }
+  if (o.detail_octaves > 0 && !(o.detail_amplitude <= o.detail_wavelength)) {
+    throw std::invalid_argument(command + ": --detail-amplitude " + std::to_string(o.detail_amplitude) +
+                                " exceeds --detail-wavelength " + std::to_string(o.detail_wavelength));
+  }
 }
 
 std::string source_name(const SourceOptions& o) { return o.input.empty() ? "scene " + o.scene : o.input; }
 
-std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o) {
+std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves) {
   auto scene = voxelizer::make_scene(o.scene);
   if (o.roughness >= 0) scene->set_sigma_rho2(o.roughness * o.roughness);
-  return scene;
+  if (o.detail_octaves == 0) return scene;
+  octree::Detail detail =
+      voxelizer::make_detail(*scene, o.detail_octaves, o.detail_amplitude, o.detail_wavelength, o.detail_seed);
+  return std::make_unique<voxelizer::DetailedScene>(std::move(scene), detail, all_octaves);
 }
 
 voxelizer::MeshOptions mesh_options(const SourceOptions& o) {
   voxelizer::MeshOptions options;
   if (o.colour.size() == 3) options.colour = glm::vec3(o.colour[0], o.colour[1], o.colour[2]);
   if (o.roughness >= 0) options.sigma_rho = o.roughness;
+  // Repairs and caveats of the mesh (degenerate triangles dropped, an open
+  // surface): one line each on stderr, the run goes on.
+  options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
   return options;
 }
 

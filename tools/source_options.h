@@ -19,23 +19,34 @@ struct SourceOptions {
   std::string scene;          // --scene NAME
   std::vector<float> colour;  // --colour R,G,B (empty: the mesh's or the default)
   float roughness = -1;       // --roughness sigma_rho (< 0: the source's own)
+  // Procedural detail octaves (--detail-*; scenes only).
+  uint32_t detail_octaves = 0;
+  float detail_amplitude = 0.002f;
+  float detail_wavelength = 0.02f;
+  uint32_t detail_seed = 1;
 };
 
 // The positional mesh file and --scene (group Input); --colour and
-// --roughness (group Appearance).
+// --roughness (group Appearance); --detail-octaves, --detail-amplitude,
+// --detail-wavelength, --detail-seed (group Detail).
 void add_source_options(CLI::App& cmd, SourceOptions& o);
 
 // Throws std::invalid_argument "<command>: give a mesh file or --scene NAME"
-// unless exactly one is given.
+// unless exactly one is given, and when detail octaves are asked of a mesh
+// or their amplitude exceeds their wavelength.
 void check_source_options(const SourceOptions& o, const std::string& command);
 
 // "scene NAME" or the mesh path, for messages and reports.
 std::string source_name(const SourceOptions& o);
 
-// The procedural scene of --scene, with --roughness applied. Throws for an unknown name.
-std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o);
+// The procedural scene of --scene, with --roughness and the detail octaves
+// applied. Throws for an unknown name. With `all_octaves` (ground truth)
+// every octave is geometry; without (svo voxelize) only those the lattice
+// can draw, the rest folded into the statistics (voxelizer::DetailedScene).
+std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves = true);
 
-// --colour and --roughness as mesh options.
+// --colour and --roughness as mesh options; the mesh's warnings (repairs,
+// an open surface) go to stderr as "svo: warning: <path>: <what>".
 voxelizer::MeshOptions mesh_options(const SourceOptions& o);
 
 }  // namespace svo::tools

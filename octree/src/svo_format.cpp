@@ -93,9 +93,53 @@ void seal(std::span<uint8_t> file) {
   put_u64(file.data() + at::header_checksum, checksum(file.first(at::header_checksum)));
 }
 
+void encode_detail(const Detail& d, uint8_t* out) {
+  std::memset(out, 0, kDetailBytes);
+  put_u32(out + 0, d.octaves);
+  put_u32(out + 4, d.seed);
+  put_f32(out + 8, d.amplitude);
+  put_f32(out + 12, d.wavelength);
+  put_f32(out + 16, d.gain);
+  for (int i = 0; i < 3; ++i) put_f32(out + 20 + 4 * i, d.colour_slope[i]);
+}
+
+Detail decode_detail(const uint8_t* in) {
+  Detail d;
+  d.octaves = get_u32(in + 0);
+  d.seed = get_u32(in + 4);
+  d.amplitude = get_f32(in + 8);
+  d.wavelength = get_f32(in + 12);
+  d.gain = get_f32(in + 16);
+  for (int i = 0; i < 3; ++i) d.colour_slope[i] = get_f32(in + 20 + 4 * i);
+  return d;
+}
+
+std::string check_detail(const Detail& d, float size) {
+  auto u = [](uint64_t v) { return std::to_string(v); };
+  if (d.octaves < 1 || d.octaves > kMaxDetailOctaves) {
+    return "detail octaves is " + u(d.octaves) + " (must be in [1, " + u(kMaxDetailOctaves) + "])";
+  }
+  if (!std::isfinite(d.wavelength) || !(d.wavelength > 0) || !(d.wavelength <= size)) {
+    return "detail wavelength is " + str(d.wavelength) + " (must be finite, > 0 and at most the domain's size)";
+  }
+  if (!std::isfinite(d.amplitude) || !(d.amplitude > 0) || !(d.amplitude <= d.wavelength)) {
+    return "detail amplitude is " + str(d.amplitude) + " (must be finite, > 0 and at most the wavelength)";
+  }
+  if (!std::isfinite(d.gain) || !(d.gain > 0) || !(d.gain <= 1)) {
+    return "detail gain is " + str(d.gain) + " (must be in (0, 1])";
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(d.colour_slope[i])) {
+      return "detail colour_slope[" + u(i) + "] is " + str(d.colour_slope[i]) + " (must be finite)";
+    }
+  }
+  return {};
+}
+
 Layout plan_layout(const Octree& tree) {
   Layout l;
-  l.channel_table = kHeaderBytes;
+  l.version = tree.detail.octaves > 0 ? kVersionDetail : kVersion;
+  l.channel_table = kHeaderBytes + (tree.detail.octaves > 0 ? kDetailBytes : 0);
   l.depth_table = align_up(l.channel_table + kChannelEntryBytes * tree.channels.size(), kTableAlign);
   l.node_table = align_up(l.depth_table + 4 * tree.depth_first_node.size(), kDataAlign);
   uint64_t end = l.node_table + kNodeBytes * tree.nodes.size();

@@ -14,9 +14,14 @@ namespace svo::octree::format {
 
 inline constexpr char kMagic[8] = {'S', 'V', 'O', 'C', 'T', 'R', 'E', 'E'};
 // Version 2 (B^3 samples per brick, faces not duplicated) replaced version 1
-// ((B + 1)^3 samples per brick); this build reads version 2 only.
+// ((B + 1)^3 samples per brick). Version 3 is version 2 plus the detail
+// block; the writer writes version 2 for an octree without detail, so such
+// files keep their bytes. This build reads versions 2 and 3.
 inline constexpr uint32_t kVersion = 2;
+inline constexpr uint32_t kVersionDetail = 3;
 inline constexpr uint64_t kHeaderBytes = 128;
+inline constexpr uint64_t kDetailBytes = 64;  // version 3: the detail block at offset 128
+inline constexpr uint32_t kMaxDetailOctaves = 32;
 inline constexpr uint64_t kChannelEntryBytes = 32;
 inline constexpr uint64_t kNodeBytes = 8;
 inline constexpr uint64_t kTableAlign = 8;  // channel and depth tables
@@ -77,6 +82,11 @@ void encode_header(const Header& h, uint8_t* out);
 Header decode_header(const uint8_t* in);
 void encode_channel(const ChannelEntry& e, uint8_t* out);
 ChannelEntry decode_channel(const uint8_t* in);
+// Detail <-> its kDetailBytes bytes (svo_file.h).
+void encode_detail(const Detail& d, uint8_t* out);
+Detail decode_detail(const uint8_t* in);
+// The rules on a detail block that is present (octaves > 0); "" or what is wrong.
+std::string check_detail(const Detail& d, float size);
 
 // XXH64 with seed 0.
 uint64_t checksum(std::span<const uint8_t> bytes);
@@ -88,6 +98,7 @@ inline uint64_t align_up(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
 
 // Where the writer puts each section of `tree` (validated).
 struct Layout {
+  uint32_t version = kVersion;  // kVersionDetail when the octree has detail
   uint64_t channel_table = 0, depth_table = 0, node_table = 0, file_bytes = 0;
   std::vector<uint64_t> data_offset, data_bytes;
 };

@@ -67,11 +67,12 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     fail("not an .svo file (magic is '" + printable(p, 8) + "', expected 'SVOCTREE')");
   }
   Header h = decode_header(p);
-  if (h.version != kVersion) {
-    fail("unsupported version " + u(h.version) + " (this build reads version " + u(kVersion) + ")");
+  if (h.version != kVersion && h.version != kVersionDetail) {
+    fail("unsupported version " + u(h.version) + " (this build reads versions " + u(kVersion) + " and " +
+         u(kVersionDetail) + ")");
   }
   if (h.header_bytes != kHeaderBytes) {
-    fail("header_bytes is " + u(h.header_bytes) + " (version " + u(kVersion) + " has 128)");
+    fail("header_bytes is " + u(h.header_bytes) + " (version " + u(h.version) + " has 128)");
   }
   uint64_t header_sum = checksum(bytes.first(at::header_checksum));
   if (header_sum != h.header_checksum) {
@@ -99,14 +100,25 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
   shape_.brick_count = h.brick_count;
   shape_.shell_count = h.shell_count;
 
-  uint64_t end = check_section(name_, n, "channel table", h.channel_table_offset, h.channel_count, kChannelEntryBytes,
-                               kHeaderBytes, kTableAlign);
+  uint64_t end = kHeaderBytes;
+  if (h.version == kVersionDetail) {
+    if (n < kHeaderBytes + kDetailBytes) {
+      fail("truncated: detail block needs 64 bytes at offset 128, file has " + u(n));
+    }
+    shape_.detail = decode_detail(p + kHeaderBytes);
+    end += kDetailBytes;
+  }
+  end = check_section(name_, n, "channel table", h.channel_table_offset, h.channel_count, kChannelEntryBytes, end,
+                      kTableAlign);
   std::vector<ChannelEntry> entries;
   for (uint32_t i = 0; i < h.channel_count; ++i) {
     entries.push_back(decode_channel(p + h.channel_table_offset + i * kChannelEntryBytes));
     shape_.channels.push_back({Channel(entries.back().channel), Encoding(entries.back().encoding)});
   }
   if (std::string why = check_shape(shape_); !why.empty()) fail(why);
+  if (h.version == kVersionDetail) {
+    if (std::string why = check_detail(shape_.detail, shape_.size); !why.empty()) fail(why);
+  }
 
   end = check_section(name_, n, "depth table", h.depth_table_offset, uint64_t(h.depth_count) + 1, 4, end, kTableAlign);
   end = check_section(name_, n, "node table", h.node_table_offset, h.node_count, kNodeBytes, end, kDataAlign);

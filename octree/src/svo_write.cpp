@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -68,6 +70,13 @@ class TempFile {
   bool committed_ = false;
 };
 
+// Announces the stall on stderr, then waits up to 60 s to be killed.
+void stall_for_test(const std::string& temporary) {
+  std::fprintf(stderr, "svo: test hook: stalled writing %s\n", temporary.c_str());
+  std::fflush(stderr);
+  for (int i = 0; i < 600; ++i) ::usleep(100000);
+}
+
 // Buffered sequential writer that hashes what it writes.
 class Stream {
  public:
@@ -122,6 +131,9 @@ class Stream {
 void validate_octree(const Octree& t) {
   auto fail = [](const std::string& why) { throw std::invalid_argument("invalid octree: " + why); };
   if (std::string why = check_shape(t); !why.empty()) fail(why);
+  if (t.detail.octaves > 0) {
+    if (std::string why = check_detail(t.detail, t.size); !why.empty()) fail(why);
+  }
   if (t.depth_first_node.size() != size_t(t.depth_count) + 1) {
     fail("depth_first_node has " + std::to_string(t.depth_first_node.size()) +
          " entries, depth_count + 1 = " + std::to_string(t.depth_count + 1));
@@ -155,6 +167,11 @@ void write_svo(const std::string& path, const Octree& tree) {
   Stream out(file, path);
   // Skip the header for now: it carries the payload checksum, so it is written last.
   if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.name(), errno);
+  if (layout.version == kVersionDetail) {
+    uint8_t detail[kDetailBytes];
+    encode_detail(tree.detail, detail);
+    out.put(detail, sizeof detail);
+  }
 
   for (size_t c = 0; c < tree.channels.size(); ++c) {
     const ChannelInfo& info = tree.channels[c];
@@ -178,8 +195,13 @@ void write_svo(const std::string& path, const Octree& tree) {
   }
   out.pad_to(layout.file_bytes);
   out.flush();
+  // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_WRITE
+  // set, stop here, the payload written and the header not, so that a test
+  // can kill the process in the middle of writing.
+  if (std::getenv("SVO_TEST_STALL_WRITE")) stall_for_test(file.name());
 
   Header h;
+  h.version = layout.version;
   h.brick_size = tree.brick_size;
   h.depth_count = tree.depth_count;
   for (int i = 0; i < 3; ++i) h.origin[i] = tree.origin[i], h.constant_colour[i] = tree.constant_colour[i];

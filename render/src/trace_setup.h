@@ -16,7 +16,7 @@
 namespace svo::render {
 
 using TraceParams = svo::math::SvoTraceParams;
-static_assert(sizeof(TraceParams) == 24 * 16, "std430 layout: vec4/uvec4 members only");
+static_assert(sizeof(TraceParams) == 27 * 16, "std430 layout: vec4/uvec4 members only");
 
 // The octree as the tracer reads it: nodes as (children, brick) pairs, and
 // every brick's channels one after the other in one record of `brick_bytes`,

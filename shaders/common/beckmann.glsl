@@ -26,6 +26,23 @@ SVO_FN float svo_beckmann_d(vec3 m, vec2 sigma2) {
   return exp(-e) / (2.0f * SVO_PI * sqrt(s2.x * s2.y) * z2 * z2);
 }
 
+// The cosine factor of a Lambertian micro-surface whose slopes have
+// variances sigma2 (per axis of the frame of v and l, mean zero): the mean
+// over the slopes of (l.m)(v.m) / (m.n), the light a facet m receives times
+// the share of the view it takes, divided by v.n; no masking. To first order
+// in sigma2 it is
+//   l.z (1 - (sx^2 + sy^2) / 2) + (sx^2 l.x v.x + sy^2 l.y v.y) / v.z:
+// tilted facets face the light less on average, and the facets the viewer
+// sees more of lean towards it. Written with 1 / sqrt(1 + sx^2 + sy^2) for
+// the first bracket (the same to first order, positive for any slopes) and
+// v.z floored at 0.25 where the expansion would blow up at grazing views.
+// The macro-normal Lambert term of paper Eq. 13 is l.z.
+SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2) {
+  float shrink = 1.0f / sqrt(1.0f + sigma2.x + sigma2.y);
+  float lean = (sigma2.x * l.x * v.x + sigma2.y * l.y * v.y) / max(v.z, 0.25f);
+  return max((l.z + lean) * shrink, 0.0f);
+}
+
 // Cook-Torrance specular lobe without Fresnel:
 //   f(v, l) = D(h) G2(v, l) / (4 (n.v) (n.l)),
 // height-correlated Smith G2 with the same (floored) variances as D.

@@ -9,6 +9,7 @@ namespace svo::math {
 using namespace glm;
 #include "beckmann.glsl"
 #include "cone_mask.glsl"
+#include "detail.glsl"
 #include "erf.glsl"
 #include "frame.glsl"
 #include "prelude.glsl"

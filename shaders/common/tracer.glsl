@@ -21,15 +21,17 @@
 #define SVO_TRACER_GLSL
 #include "beckmann.glsl"
 #include "cone_mask.glsl"
+#include "detail.glsl"
 #include "frame.glsl"
 #include "smith.glsl"
 #include "tracer_params.glsl"
 #include "trig.glsl"
 #include "voxel_codec.glsl"
 
-// A voxel as the renderer uses it (height deviation is not needed for shading).
+// A voxel as the renderer uses it.
 struct SvoVoxel {
   float hbar;  // signed distance to the mean plane, scene units (> 0 outside)
+  float sh2;   // height variance sigma_h^2 (read only to draw detail octaves)
   vec3 n;      // mean normal (interpolated, not renormalised)
   vec3 cov;    // slope covariance (xx, yy, xy) in the tangent frame of n
   vec3 abar;   // mean colour, linear
@@ -87,11 +89,19 @@ SVO_FN uint svo_byte(uint brick, uint offset) {
 SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   SvoVoxel v;
   v.hbar = 0.0f;
+  v.sh2 = 0.0f;
   v.n = vec3(0.0f);
   v.cov = vec3(0.0f);
   v.abar = vec3(0.0f);
   v.a_s = vec3(0.0f);
   if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
+  if ((parts & SVO_PART_HEIGHT) != 0u && params.offsets_a.z != SVO_ABSENT) {
+    // Relative to the voxel size unless stored as f32 (svo_sample_trilinear scales it).
+    float sh = params.encodings.x == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
+                   : svo_decode_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
+    v.sh2 = sh * sh;
+  }
   if ((parts & SVO_PART_NORMAL) == 0u) return v;
   v.n = vec3(0.0f, 0.0f, 1.0f);
   if (params.offsets_a.y != SVO_ABSENT) {
@@ -126,6 +136,7 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
 SVO_FN SvoVoxel svo_voxel_madd(SvoVoxel a, SvoVoxel b, float w) {
   SvoVoxel r;
   r.hbar = a.hbar + w * b.hbar;
+  r.sh2 = a.sh2 + w * b.sh2;
   r.n = a.n + w * b.n;
   r.cov = a.cov + w * b.cov;
   r.abar = a.abar + w * b.abar;
@@ -136,6 +147,7 @@ SVO_FN SvoVoxel svo_voxel_madd(SvoVoxel a, SvoVoxel b, float w) {
 SVO_FN SvoVoxel svo_voxel_scaled(SvoVoxel a, float w) {
   SvoVoxel r;
   r.hbar = w * a.hbar;
+  r.sh2 = w * a.sh2;
   r.n = w * a.n;
   r.cov = w * a.cov;
   r.abar = w * a.abar;
@@ -165,6 +177,10 @@ SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
     uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
     vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
     r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
+  }
+  if (params.encodings.x != SVO_ENC_F32) {
+    float voxel = cell.size / float(params.tree.x);
+    r.sh2 *= voxel * voxel;
   }
   return r;
 }
@@ -260,6 +276,29 @@ SVO_FN int svo_popcount(uvec4 m) {
   return c.x + c.y + c.z + c.w;
 }
 
+// The file's detail octaves (params.detail*).
+SVO_FN SvoDetail svo_trace_detail() {
+  SvoDetail d;
+  d.octaves = params.detail_u.x;
+  d.seed = params.detail_u.y;
+  d.amplitude = params.detail.x;
+  d.wavelength = params.detail.y;
+  d.gain = params.detail.z;
+  return d;
+}
+
+// Whether an element of radius r draws detail octaves that the finest level
+// holds only as statistics (its footprint is finer than the finest level's).
+SVO_FN bool svo_draws_detail(float r) { return params.detail_u.x > 0u && r < params.detail_colour.w; }
+
+// The mean normal n tilted by the gradient g of an added displacement along
+// it (the gradient of distance - displacement), its length kept.
+SVO_FN vec3 svo_detail_tilt(vec3 n, vec3 g) {
+  float nl = length(n);
+  if (!(nl > 0.0f)) return n;
+  return normalize(n / nl - g) * nl;
+}
+
 SVO_FN SvoMarch svo_march_start(float t) {
   SvoMarch m;
   m.lo_cell.brick = SVO_ABSENT;
@@ -270,6 +309,7 @@ SVO_FN SvoMarch svo_march_start(float t) {
   m.t = t;
   m.hit = false;
   m.v.hbar = 0.0f;
+  m.v.sh2 = 0.0f;
   m.v.n = vec3(0.0f, 0.0f, 1.0f);
   m.v.cov = vec3(0.0f);
   m.v.abar = vec3(0.0f);
@@ -286,7 +326,7 @@ SVO_FN SvoMarch svo_march_start(float t) {
 // or samples the voxel under the element and computes its coverage mask.
 SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
-  float half_length = max(r, 0.25f * params.material.z);
+  float half_length = max(r, params.material.w);
   vec3 p = cone.o + cone.d * (m.t + half_length);
   uint last = params.tree.y - 1u;
   // The level whose trilinear filter matches the footprint: interpolation
@@ -323,9 +363,17 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
         v.hbar = mix(v.hbar, svo_sample_trilinear(m.hi_cell, p, SVO_PART_DISTANCE).hbar, w);
       }
     }
+    // Detail octaves finer than the finest level, coarser than the element:
+    // the surface moves by their displacement and tilts with their gradient.
+    vec4 detail = vec4(0.0f);
+    if (svo_draws_detail(r)) {
+      detail = svo_detail_displacement(svo_trace_detail(), p, r, params.detail_colour.w);
+      v.hbar -= detail.w;
+    }
     if (v.hbar < half_length + r) {
       v.n = svo_sample_trilinear(m.lo_cell, p, SVO_PART_NORMAL).n;
       if (m.blend > 0.0f) v.n = mix(v.n, svo_sample_trilinear(m.hi_cell, p, SVO_PART_NORMAL).n, m.blend);
+      v.n = svo_detail_tilt(v.n, vec3(detail));
       float nl = length(v.n);
       vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
       vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
@@ -338,9 +386,11 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   m.depth = m.t + half_length;
   m.radius = r;
   // The element cannot reach a surface farther than hbar: skip most of the gap.
+  // With detail drawn, the distance changes up to 1 + its slope bound per unit.
   float advance = 2.0f * half_length;
   if (mode != SVO_MODE_NEAREST && v.hbar > half_length + r) {
-    advance = max(advance, half_length + 0.8f * (v.hbar - r));
+    float lipschitz = svo_draws_detail(r) ? 1.0f + params.detail.w : 1.0f;
+    advance = max(advance, half_length + 0.8f * (v.hbar - r) / lipschitz);
   }
   m.t += advance;
   return m;
@@ -393,6 +443,9 @@ struct SvoShade {
 // Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
 // (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
 // sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
+// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
+// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
+// slope variance 0.02 (tests/reference/detail_test.cpp).
 SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   vec3 dir = -view;
   SvoShade s;
@@ -417,10 +470,24 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
       m.lo_cell = lo;
       m.hi_cell = hi;
     }
-    SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL);
+    bool detail = svo_draws_detail(m.radius);
+    uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
+    SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, parts);
     if (m.blend > 0.0f) {
-      a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend),
-                         svo_sample_trilinear(m.hi_cell, m.p, SVO_PART_SHADING | SVO_PART_NORMAL), m.blend);
+      a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend), svo_sample_trilinear(m.hi_cell, m.p, parts), m.blend);
+    }
+    if (detail) {
+      // The octaves drawn here leave the statistics: their slope and height
+      // variances and their share of the colour-height covariance; the
+      // colour follows the drawn height instead (detail.glsl).
+      SvoDetail d = svo_trace_detail();
+      vec4 g = svo_detail_displacement(d, m.p, m.radius, params.detail_colour.w);
+      vec2 moved = svo_detail_moved_variance(d, m.radius, params.detail_colour.w);
+      vec3 slope = vec3(params.detail_colour);
+      a.n = svo_detail_tilt(a.n, vec3(g));
+      a.cov -= vec3(moved.y, moved.y, 0.0f);
+      a.a_s = svo_detail_fold_a_s(a.a_s, a.sh2, -moved.x, slope);
+      a.abar += slope * g.w;
     }
     m.v.n = a.n;
     m.v.cov = a.cov;
@@ -470,8 +537,11 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     }
     float lambda_l = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(ll, sn2) : 0.0f;
     vec3 a = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v + lambda_l) : m.v.abar;
-    vec3 rho = a / SVO_PI + vec3(params.material.y * svo_specular_brdf(vl, ll, total));
-    s.radiance += e * rho * (ndl * visible);
+    // Lambert over the voxel's micro-slopes (beckmann.glsl; l.n with none).
+    float lambert = svo_rough_lambert(vl, ll, sn2);
+    vec3 diffuse = a * (lambert / SVO_PI);
+    vec3 specular = vec3(params.material.y * svo_specular_brdf(vl, ll, total) * ndl);
+    s.radiance += e * (diffuse + specular) * visible;
   }
   s.abar = a_view;
   s.p = m.p;

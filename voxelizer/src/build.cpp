@@ -12,6 +12,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/shared_math.h"
+#include "svo/voxelizer/scenes.h"
 #include "svo/voxelizer/statistics.h"
 
 namespace svo::voxelizer {
@@ -112,6 +114,10 @@ struct Builder {
   octree::Octree tree;
   std::vector<BrickJob> jobs;
   glm::vec3 colour_mean{0};
+  // Detail octaves the finest lattice cannot draw: their (height variance,
+  // per-axis slope variance) join every voxel's statistics.
+  octree::Detail detail;
+  glm::vec2 folded{0};
   tbb::enumerable_thread_specific<std::vector<FinePoint>> scratch;
   tbb::enumerable_thread_specific<std::vector<int32_t>> filled_scratch;
 
@@ -130,6 +136,19 @@ struct Builder {
     while ((B << (depth_count - 1)) < N) ++depth_count;
     D = depth_count - 1;
     h = float(lattice.voxel);
+    detail = source.detail();
+    if (detail.octaves > 0) folded = detail_folded_variance(detail, lattice.voxel);
+  }
+
+  // Independent height components add their variances, their slope
+  // variances and their colour-height covariances (detail.glsl).
+  void fold_detail(octree::Voxel& v) const {
+    if (detail.octaves == 0) return;
+    float var = v.sigma_h * v.sigma_h;
+    v.a_s = math::svo_detail_fold_a_s(v.a_s, var, folded.x, detail.colour_slope);
+    v.sigma_h = std::sqrt(var + folded.x);
+    v.slope_cov.x += folded.y;
+    v.slope_cov.y += folded.y;
   }
 
   void collect_samples() {
@@ -211,6 +230,7 @@ struct Builder {
         level.filled.emplace(key, uint32_t(g));
         add_bricks_holding(unpack(key), int(B), int(level.cells / B), level.bricks);
       }
+      for (auto& v : level.stats) fold_detail(v);
       rep.filled_voxels += level.stats.size();
     }
     rep.filled_voxels += rep.samples;
@@ -230,6 +250,7 @@ struct Builder {
     tree.origin = glm::vec3(lattice.origin);
     tree.size = float(lattice.voxel * N);
     tree.sigma_rho2 = source.sigma_rho2();
+    tree.detail = detail;
     std::vector<glm::ivec3> coords{glm::ivec3(0)};
     tree.nodes.push_back({});
     tree.depth_first_node = {0, 1};
@@ -305,7 +326,8 @@ struct Builder {
     using octree::Encoding;
     tree.channels.push_back({Channel::Distance, Encoding::F32});
     tree.channels.push_back({Channel::Normal, Encoding::Oct24});
-    if (bumpy) tree.channels.push_back({Channel::HeightDev, Encoding::U8LogRelative});
+    // The renderer needs sigma_h to draw detail octaves (detail.glsl).
+    if (bumpy || detail.octaves > 0) tree.channels.push_back({Channel::HeightDev, Encoding::U8LogRelative});
     if (rough) {
       if (sloped > 0 && anisotropic * 5 > sloped) {
         tree.channels.push_back({Channel::SlopeCov, Encoding::Cov3x8});
@@ -313,8 +335,14 @@ struct Builder {
         tree.channels.push_back({Channel::SlopeDev, Encoding::U8LogSlope});
       }
     }
-    if (colour_varies) tree.channels.push_back({Channel::Colour, Encoding::Srgb8});
-    if (colour_varies && correlated * 100 >= filled) tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
+    // Detail whose colour follows its height makes colour vary and correlate
+    // with height wherever the detail is (its octaves below the lattice show
+    // only in a_s).
+    bool detail_colour = detail.octaves > 0 && glm::length(detail.colour_slope) > 0;
+    if (colour_varies || detail_colour) tree.channels.push_back({Channel::Colour, Encoding::Srgb8});
+    if ((colour_varies && correlated * 100 >= filled) || detail_colour) {
+      tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
+    }
     tree.constant_colour = colour_mean;
     for (const auto& c : tree.channels) {
       tree.brick_data.emplace_back(size_t(tree.pool_samples()) * octree::encoding_bytes(c.encoding));
@@ -367,6 +395,7 @@ struct Builder {
                   }
                   if (count) v.nbar = glm::normalize(n + glm::vec3(0, 0, 1e-12f)), v.abar = a / float(count);
                 }
+                fold_detail(v);
                 octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
               }
         } else {

@@ -16,6 +16,9 @@ namespace {
 
 float height_sigmoid(float h, float sigma_h) { return svo::math::svo_height_sigmoid(h, sigma_h); }
 
+// d/dh erf(h / (sqrt(2) sigma)) at h = 0, times sigma.
+constexpr float kSigmoidSlope = 0.797884561f;  // sqrt(2 / pi)
+
 }  // namespace
 
 double AnalyticScene::surface_area() const {
@@ -175,6 +178,8 @@ glm::vec3 HeightfieldScene::colour(glm::vec3 q) const {
   return abar_ + a_s_ * height_sigmoid(height(q.x, q.y), sigma_h());
 }
 
+glm::vec3 HeightfieldScene::colour_height_slope() const { return a_s_ * kSigmoidSlope / sigma_h(); }
+
 Box HeightfieldScene::bounds() const {
   // Symmetric about z = 0 (the mean surface), so that lattice points of
   // every depth fall on it.
@@ -228,8 +233,9 @@ class BumpySphere : public AnalyticScene {
   float lipschitz() const override { return lipschitz_; }
   glm::vec3 colour(glm::vec3 q) const override {
     float h = bump(glm::normalize(q));
-    return glm::vec3(0.5f, 0.32f, 0.22f) + glm::vec3(0.35f, 0.3f, -0.12f) * height_sigmoid(h, kSigma);
+    return glm::vec3(0.5f, 0.32f, 0.22f) + kColourSlope * height_sigmoid(h, kSigma);
   }
+  glm::vec3 colour_height_slope() const override { return kColourSlope * kSigmoidSlope / kSigma; }
   Box bounds() const override {
     float r = kRadius + 5 * kSigma;
     return {glm::vec3(-r), glm::vec3(r)};
@@ -239,6 +245,7 @@ class BumpySphere : public AnalyticScene {
  private:
   static constexpr float kRadius = 0.7f;
   static constexpr float kSigma = 0.012f;
+  static constexpr glm::vec3 kColourSlope{0.35f, 0.3f, -0.12f};
   struct Bump {
     float amplitude;
     glm::vec3 frequency;
@@ -262,9 +269,9 @@ class GroovedCylinder : public AnalyticScene {
   }
   float lipschitz() const override { return 2.5f; }
   glm::vec3 colour(glm::vec3 q) const override {
-    float sigma = kAmplitude / std::sqrt(2.0f);
-    return glm::vec3(0.3f, 0.55f, 0.3f) + glm::vec3(-0.2f, 0.3f, -0.15f) * height_sigmoid(groove(q), sigma);
+    return glm::vec3(0.3f, 0.55f, 0.3f) + kColourSlope * height_sigmoid(groove(q), kSigma);
   }
+  glm::vec3 colour_height_slope() const override { return kColourSlope * kSigmoidSlope / kSigma; }
   Box bounds() const override {
     float r = kRadius + kAmplitude;
     return {glm::vec3(-r, -kHalfHeight, -r), glm::vec3(r, kHalfHeight, r)};
@@ -276,9 +283,82 @@ class GroovedCylinder : public AnalyticScene {
   static constexpr float kAmplitude = 0.015f;
   static constexpr float kGrooves = 48.0f;
   static constexpr float kHalfHeight = 0.6f;
+  static constexpr float kSigma = kAmplitude / 1.41421356f;
+  static constexpr glm::vec3 kColourSlope{-0.2f, 0.3f, -0.15f};
 };
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Detail octaves.
+
+namespace {
+
+svo::math::SvoDetail shared_detail(const octree::Detail& d) {
+  svo::math::SvoDetail s;
+  s.octaves = d.octaves;
+  s.seed = d.seed;
+  s.amplitude = d.amplitude;
+  s.wavelength = d.wavelength;
+  s.gain = d.gain;
+  return s;
+}
+
+}  // namespace
+
+DetailedScene::DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::Detail& detail, bool all_octaves)
+    : base_(std::move(base)), detail_(detail), all_(all_octaves) {
+  set_sigma_rho2(base_->sigma_rho2());
+  float slope = 0;
+  for (uint32_t k = 0; k < detail_.octaves; ++k) {
+    slope += detail_.amplitude * std::pow(detail_.gain, float(k)) / (detail_.wavelength * std::exp2(-float(k)));
+  }
+  lipschitz_ = base_->lipschitz() + slope * svo::math::SVO_NOISE_MAX_GRADIENT;
+}
+
+void DetailedScene::prepare(const Lattice& lattice) {
+  AnalyticScene::prepare(lattice);
+  base_->prepare(lattice);
+  drawn_radius_ = all_ ? 0.0f : float(lattice.voxel / std::sqrt(2.0));
+}
+
+glm::vec4 DetailedScene::displacement(glm::vec3 p) const {
+  return svo::math::svo_detail_displacement(shared_detail(detail_), p, drawn_radius_, 3.0e38f);
+}
+
+float DetailedScene::distance(glm::vec3 p) const { return base_->distance(p) - displacement(p).w; }
+
+glm::vec4 DetailedScene::distance_gradient(glm::vec3 p) const {
+  return base_->distance_gradient(p) - displacement(p);
+}
+
+glm::vec3 DetailedScene::colour(glm::vec3 q) const {
+  return base_->colour(q) + detail_.colour_slope * displacement(q).w;
+}
+
+Box DetailedScene::bounds() const {
+  Box b = base_->bounds();
+  float reach = 0;
+  for (uint32_t k = 0; k < detail_.octaves; ++k) reach += detail_.amplitude * std::pow(detail_.gain, float(k));
+  reach *= svo::math::SVO_NOISE_MAX;
+  return {b.lo - reach, b.hi + reach};
+}
+
+glm::vec2 detail_folded_variance(const octree::Detail& detail, double voxel) {
+  return svo::math::svo_detail_moved_variance(shared_detail(detail), 0.0f, float(voxel / std::sqrt(2.0)));
+}
+
+octree::Detail make_detail(const AnalyticScene& scene, uint32_t octaves, float amplitude, float wavelength,
+                           uint32_t seed) {
+  octree::Detail d;
+  d.octaves = octaves;
+  d.seed = seed;
+  d.amplitude = amplitude;
+  d.wavelength = wavelength;
+  d.gain = 0.5f;
+  d.colour_slope = scene.colour_height_slope();
+  return d;
+}
 
 std::vector<std::string> scene_names() { return {"bumpy-sphere", "heightfield", "grooved-cylinder"}; }
 

@@ -115,6 +115,21 @@ struct Node {
   uint32_t brick = kNone;     // index of this node's brick, or kNone (no surface nearby)
 };
 
+// Procedural detail octaves below the stored resolution (issue 6; the math
+// is shaders/common/detail.glsl): octave k adds amplitude gain^k times
+// gradient noise of wavelength wavelength 2^-k to the height along the
+// normal, and colour_slope times that height to the colour. The octaves the
+// finest level cannot draw are folded into every level's statistics; the
+// renderer draws them where its footprint is finer.
+struct Detail {
+  uint32_t octaves = 0;  // 0: none
+  uint32_t seed = 0;
+  float amplitude = 0;   // of octave 0, scene units
+  float wavelength = 0;  // of octave 0, scene units
+  float gain = 0.5f;     // amplitude ratio of consecutive octaves, (0, 1]
+  glm::vec3 colour_slope{0, 0, 0};  // linear RGB per scene unit of detail height
+};
+
 struct Octree {
   uint32_t brick_size = 8;   // lattice cells per brick edge (power of two, 2..32)
   uint32_t depth_count = 1;  // levels; finest lattice has brick_size << (depth_count - 1) cells
@@ -123,6 +138,7 @@ struct Octree {
 
   float sigma_rho2 = 0;                         // micro-BRDF slope variance (Heitz & Neyret 5.5), scene-wide
   glm::vec3 constant_colour{0.8f, 0.8f, 0.8f};  // abar when no Colour channel is stored
+  Detail detail;                                // octaves = 0: none
 
   std::vector<ChannelInfo> channels;       // in storage order
   std::vector<uint32_t> depth_first_node;  // size depth_count + 1; nodes of depth d: [first[d], first[d+1])

@@ -2,13 +2,15 @@
 // with every count and offset validated, and readable in place through a
 // read-only memory map (DESIGN section 7).
 //
-// Layout, version 2. All integers little-endian, floats IEEE-754 binary32.
-// Offsets are bytes from the start of the file.
+// Layout, version 2, and version 3 = version 2 plus the detail block (an
+// octree with procedural detail octaves, Octree::detail; the writer writes
+// version 2 when there is none). All integers little-endian, floats
+// IEEE-754 binary32. Offsets are bytes from the start of the file.
 //
 //   header, 128 bytes at offset 0
 //     off size  field
 //       0    8  magic "SVOCTREE"
-//       8    4  u32 version = 2 (version 1 stored (brick_size + 1)^3
+//       8    4  u32 version = 2 or 3 (version 1 stored (brick_size + 1)^3
 //                                   samples per brick; it is refused)
 //      12    4  u32 header_bytes = 128
 //      16    4  u32 brick_size        power of two in [2, 32]
@@ -27,7 +29,16 @@
 //     104    8  u64 file_bytes        the size of the whole file
 //     112    8  u64 payload_checksum  XXH64 (seed 0) of bytes [128, file_bytes)
 //     120    8  u64 header_checksum   XXH64 (seed 0) of bytes [0, 120)
-//   channel table, channel_count entries of 32 bytes
+//   detail block, version 3 only, 64 bytes at offset 128 (Octree::Detail)
+//       0    4  u32 octaves           [1, 32]
+//       4    4  u32 seed
+//       8    4  f32 amplitude         finite, > 0, <= wavelength
+//      12    4  f32 wavelength        finite, > 0, <= size
+//      16    4  f32 gain              (0, 1]
+//      20   12  f32 colour_slope[3]   finite
+//      32   32  zero
+//   channel table, channel_count entries of 32 bytes (at or after the end
+//   of the header, or of the detail block in version 3)
 //       0    4  u32 channel           Channel, unique within the file
 //       4    4  u32 encoding          Encoding, encoding_fits(channel, encoding)
 //       8    4  u32 bytes_per_sample  = encoding_bytes(encoding)

@@ -29,6 +29,10 @@ class AnalyticScene : public SurfaceSource {
   virtual glm::vec3 colour(glm::vec3 surface_point) const = 0;
   // Scene name as given to --scene.
   virtual std::string name() const = 0;
+  // d(colour) / d(height) where the scene's colour follows its height, at
+  // the mean height: detail octaves continue this relation (linear RGB per
+  // scene unit). Zero for a scene whose colour does not follow height.
+  virtual glm::vec3 colour_height_slope() const { return glm::vec3(0); }
 
   float sigma_rho2() const override { return sigma_rho2_; }
   // Default: 1.5 times the area of the bounding box (bumps add area).
@@ -49,6 +53,49 @@ class AnalyticScene : public SurfaceSource {
   Lattice lattice_;
   float sigma_rho2_ = 0.01f;
 };
+
+// A scene with procedural detail octaves (octree::Detail, the math in
+// shaders/common/detail.glsl): distance(p) = base distance(p) - D(p) and
+// colour + colour_slope D, D the octaves' displacement. With `all_octaves`
+// (the reference) D holds every octave. Otherwise (the voxelizer) D holds
+// only what the lattice given to prepare() can draw, the fraction
+// e_k(voxel / sqrt(2)) of each octave, as the renderer does at the finest
+// level; detail() then tells the voxelizer to fold the rest into the
+// statistics.
+class DetailedScene : public AnalyticScene {
+ public:
+  DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::Detail& detail, bool all_octaves);
+  float distance(glm::vec3 p) const override;
+  glm::vec4 distance_gradient(glm::vec3 p) const override;
+  float lipschitz() const override { return lipschitz_; }
+  glm::vec3 colour(glm::vec3 surface_point) const override;
+  glm::vec3 colour_height_slope() const override { return base_->colour_height_slope(); }
+  std::string name() const override { return base_->name(); }
+  Box bounds() const override;
+  double surface_area() const override { return 2.0 * base_->surface_area(); }
+  octree::Detail detail() const override { return all_ ? octree::Detail{} : detail_; }
+  void prepare(const Lattice& lattice) override;
+  const AnalyticScene& base() const { return *base_; }
+  // (gradient, value) of the displacement drawn.
+  glm::vec4 displacement(glm::vec3 p) const;
+
+ private:
+  std::unique_ptr<AnalyticScene> base_;
+  octree::Detail detail_;
+  bool all_;
+  float drawn_radius_ = 0;  // footprint radius whose octaves are drawn (0: all)
+  float lipschitz_ = 1;
+};
+
+// Detail octaves with the defaults of the command line: octave 0 of
+// wavelength `wavelength` and amplitude `amplitude`, gain 1/2, the colour
+// following height as the scene's does.
+octree::Detail make_detail(const AnalyticScene& scene, uint32_t octaves, float amplitude, float wavelength,
+                           uint32_t seed);
+
+// (height variance, per-axis slope variance) of the detail a lattice of
+// spacing `voxel` cannot draw: what the voxelizer folds into the statistics.
+glm::vec2 detail_folded_variance(const octree::Detail& detail, double voxel);
 
 // Names accepted by make_scene.
 std::vector<std::string> scene_names();
@@ -79,6 +126,7 @@ class HeightfieldScene : public AnalyticScene {
   glm::vec4 distance_gradient(glm::vec3 p) const override;
   float lipschitz() const override { return lipschitz_; }
   glm::vec3 colour(glm::vec3 surface_point) const override;
+  glm::vec3 colour_height_slope() const override;
   Box bounds() const override;
   std::string name() const override { return "heightfield"; }
 

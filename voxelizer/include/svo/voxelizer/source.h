@@ -8,6 +8,8 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "svo/octree/octree.h"
+
 namespace svo::voxelizer {
 
 struct Box {
@@ -49,6 +51,11 @@ class SurfaceSource {
   // Memory the source itself needs per finest surface sample (e.g. the
   // OpenVDB narrow band), bytes.
   virtual double bytes_per_sample() const { return 0; }
+  // Procedural detail octaves carried by the surface (octaves = 0: none).
+  // The values the source gives hold only the octaves the lattice can draw;
+  // the voxelizer folds the others into the statistics and records this in
+  // the octree for the renderer (shaders/common/detail.glsl).
+  virtual octree::Detail detail() const { return {}; }
   // Called once before any other query below, with the lattice to serve.
   virtual void prepare(const Lattice& lattice) = 0;
   // Finest-level bricks (`brick_size` cells, brick b owns lattice points

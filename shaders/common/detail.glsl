@@ -1,0 +1,187 @@
+// Procedural detail octaves (issue 6): gradient noise that displaces a
+// surface along its normal below the octree's stored resolution, and the
+// rule that decides, for a footprint of radius r, which octaves are drawn
+// explicitly and which only count as statistics (height variance, slope
+// variance, colour correlation). The voxelizer (C++), the renderer (GLSL and
+// C++) and the reference all call these functions, so the detail the octree
+// folds into its statistics is exactly the detail the tracer draws.
+//
+// Octave k (k = 0 .. octaves - 1) has wavelength lambda_k = wavelength 2^-k
+// and amplitude a_k = amplitude gain^k; it adds a_k n(p / lambda_k + o_k)
+// to the height, n the gradient noise below (zero mean, variance
+// SVO_NOISE_VARIANCE, per-axis derivative variance SVO_NOISE_SLOPE_VARIANCE,
+// both over a uniform p; tests/numerics/detail_test.cpp measures them).
+//
+// Explicit weight e_k(r): 1 when lambda_k >= 8 r, 0 when lambda_k <= 4 r, a
+// smoothstep in log2(lambda_k / 4r) between. An octave that is a fraction e
+// explicit draws e a_k n and keeps (1 - e^2) a_k^2 of its variances as
+// statistics, so that explicit and statistical parts always add up to the
+// octave's own variance: the appearance cannot jump where an octave changes
+// from one to the other.
+#ifndef SVO_DETAIL_GLSL
+#define SVO_DETAIL_GLSL
+#include "prelude.glsl"
+
+// Variance of svo_gradient_noise's value and of each of its partial
+// derivatives over a uniform position (Monte Carlo, 2^24 points).
+SVO_CONST float SVO_NOISE_VARIANCE = 0.03654f;
+SVO_CONST float SVO_NOISE_SLOPE_VARIANCE = 0.2486f;
+// Bound on |n| and on |grad n|, for Lipschitz bounds and margins.
+SVO_CONST float SVO_NOISE_MAX = 1.0f;
+SVO_CONST float SVO_NOISE_MAX_GRADIENT = 3.5f;
+
+struct SvoDetail {
+  uint octaves;     // 0: no detail
+  uint seed;
+  float amplitude;  // of octave 0, scene units
+  float wavelength;  // of octave 0, scene units
+  float gain;       // amplitude ratio of consecutive octaves
+};
+
+SVO_FN uint svo_hash(uint x) {
+  x ^= x >> 16u;
+  x *= 0x7feb352du;
+  x ^= x >> 15u;
+  x *= 0x846ca68bu;
+  x ^= x >> 16u;
+  return x;
+}
+
+// A pseudo-random gradient in [-1, 1]^3 for lattice corner c.
+SVO_FN vec3 svo_corner_gradient(ivec3 c, uint seed) {
+  uint h = svo_hash(uint(c.x) + svo_hash(uint(c.y) + svo_hash(uint(c.z) + seed)));
+  return vec3(float(h & 1023u), float((h >> 10u) & 1023u), float((h >> 20u) & 1023u)) * (2.0f / 1023.0f) - 1.0f;
+}
+
+// Gradient noise (Perlin's, with quintic fades and random gradients):
+// (d n / dp, n) at p.
+SVO_FN vec4 svo_gradient_noise(vec3 p, uint seed) {
+  vec3 i = floor(p);
+  vec3 f = p - i;
+  ivec3 c = ivec3(i);
+  vec3 u = f * f * f * (f * (f * 6.0f - 15.0f) + 10.0f);
+  vec3 du = 30.0f * f * f * (f * (f - 2.0f) + 1.0f);
+  vec3 ga = svo_corner_gradient(c, seed);
+  vec3 gb = svo_corner_gradient(c + ivec3(1, 0, 0), seed);
+  vec3 gc = svo_corner_gradient(c + ivec3(0, 1, 0), seed);
+  vec3 gd = svo_corner_gradient(c + ivec3(1, 1, 0), seed);
+  vec3 ge = svo_corner_gradient(c + ivec3(0, 0, 1), seed);
+  vec3 gf = svo_corner_gradient(c + ivec3(1, 0, 1), seed);
+  vec3 gg = svo_corner_gradient(c + ivec3(0, 1, 1), seed);
+  vec3 gh = svo_corner_gradient(c + ivec3(1, 1, 1), seed);
+  float va = dot(ga, f);
+  float vb = dot(gb, f - vec3(1.0f, 0.0f, 0.0f));
+  float vc = dot(gc, f - vec3(0.0f, 1.0f, 0.0f));
+  float vd = dot(gd, f - vec3(1.0f, 1.0f, 0.0f));
+  float ve = dot(ge, f - vec3(0.0f, 0.0f, 1.0f));
+  float vf = dot(gf, f - vec3(1.0f, 0.0f, 1.0f));
+  float vg = dot(gg, f - vec3(0.0f, 1.0f, 1.0f));
+  float vh = dot(gh, f - vec3(1.0f, 1.0f, 1.0f));
+  // n = sum of corner values weighted by products of fades, expanded.
+  float kx = vb - va;
+  float ky = vc - va;
+  float kz = ve - va;
+  float kxy = va - vb - vc + vd;
+  float kyz = va - vc - ve + vg;
+  float kzx = va - vb - ve + vf;
+  float kxyz = -va + vb + vc - vd + ve - vf - vg + vh;
+  float n = va + u.x * kx + u.y * ky + u.z * kz + u.x * u.y * kxy + u.y * u.z * kyz + u.z * u.x * kzx +
+            u.x * u.y * u.z * kxyz;
+  // The corner values' own gradients, blended the same way ...
+  vec3 g = ga + u.x * (gb - ga) + u.y * (gc - ga) + u.z * (ge - ga) + u.x * u.y * (ga - gb - gc + gd) +
+           u.y * u.z * (ga - gc - ge + gg) + u.z * u.x * (ga - gb - ge + gf) +
+           u.x * u.y * u.z * (-ga + gb + gc - gd + ge - gf - gg + gh);
+  // ... plus the derivatives of the fades.
+  g += du * vec3(kx + u.y * kxy + u.z * kzx + u.y * u.z * kxyz, ky + u.z * kyz + u.x * kxy + u.z * u.x * kxyz,
+                 kz + u.x * kzx + u.y * kyz + u.x * u.y * kxyz);
+  return vec4(g, n);
+}
+
+SVO_FN float svo_detail_wavelength(SvoDetail d, uint k) { return d.wavelength * exp2(-float(k)); }
+
+SVO_FN float svo_detail_amplitude(SvoDetail d, uint k) { return d.amplitude * pow(d.gain, float(k)); }
+
+// Fraction of an octave of wavelength `lambda` drawn explicitly for a
+// footprint of radius r (r <= 0: all of it).
+SVO_FN float svo_detail_weight(float lambda, float r) {
+  if (!(r > 0.0f)) return 1.0f;
+  float x = clamp(log2(lambda / (4.0f * r)), 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
+// Rows of a fixed rotation (0.7 rad about (1, 2, 3)): the noise lattice is
+// turned away from the axes, so that a surface aligned with them (a plane)
+// does not slice every octave at the same place in its cells, where the
+// noise's variance would differ from its average over space.
+SVO_CONST vec3 SVO_DETAIL_ROW0 = vec3(0.781639174f, -0.482929284f, 0.394739798f);
+SVO_CONST vec3 SVO_DETAIL_ROW1 = vec3(0.550117231f, 0.832030134f, -0.071392499f);
+SVO_CONST vec3 SVO_DETAIL_ROW2 = vec3(-0.293957878f, 0.272956339f, 0.916015067f);
+
+// (gradient, value) of octave k's displacement a_k n(R p / lambda_k + o_k).
+SVO_FN vec4 svo_detail_octave(SvoDetail d, uint k, vec3 p) {
+  float lambda = svo_detail_wavelength(d, k);
+  float a = svo_detail_amplitude(d, k);
+  vec3 q = vec3(dot(SVO_DETAIL_ROW0, p), dot(SVO_DETAIL_ROW1, p), dot(SVO_DETAIL_ROW2, p));
+  vec3 offset = vec3(0.37f, 0.71f, 0.13f) * float(k) + 0.5f;
+  vec4 gn = svo_gradient_noise(q / lambda + offset, d.seed + k * 0x9E3779B9u);
+  vec3 g = gn.x * SVO_DETAIL_ROW0 + gn.y * SVO_DETAIL_ROW1 + gn.z * SVO_DETAIL_ROW2;  // R^T grad n
+  return vec4(g * (a / lambda), gn.w * a);
+}
+
+// (gradient, value) of the displacement drawn at footprint r beyond what is
+// drawn at footprint r_stored >= r: sum of (e_k(r) - e_k(r_stored)) times
+// octave k. Octaves already whole at r_stored, or still none at r, cost
+// nothing.
+SVO_FN vec4 svo_detail_displacement(SvoDetail d, vec3 p, float r, float r_stored) {
+  vec4 sum = vec4(0.0f);
+  for (uint k = 0u; k < d.octaves; ++k) {
+    float lambda = svo_detail_wavelength(d, k);
+    float w = svo_detail_weight(lambda, r) - svo_detail_weight(lambda, r_stored);
+    if (lambda <= 4.0f * r) break;  // this octave and all finer ones: statistics only
+    if (!(w > 0.0f)) continue;
+    sum += w * svo_detail_octave(d, k, p);
+  }
+  return sum;
+}
+
+// Variances that move from statistics to explicit drawing between footprints
+// r_stored and r <= r_stored: (height variance, per-axis slope variance).
+// With r = 0 it is all the statistics the octree holds at r_stored.
+SVO_FN vec2 svo_detail_moved_variance(SvoDetail d, float r, float r_stored) {
+  vec2 sum = vec2(0.0f);
+  for (uint k = 0u; k < d.octaves; ++k) {
+    float lambda = svo_detail_wavelength(d, k);
+    float e = svo_detail_weight(lambda, r);
+    float e0 = svo_detail_weight(lambda, r_stored);
+    float a = svo_detail_amplitude(d, k);
+    float moved = (e * e - e0 * e0) * a * a;
+    sum += moved * vec2(SVO_NOISE_VARIANCE, SVO_NOISE_SLOPE_VARIANCE / (lambda * lambda));
+  }
+  return sum;
+}
+
+// Bound on |grad| of the displacement drawn beyond r_stored (any r).
+SVO_FN float svo_detail_slope_bound(SvoDetail d, float r_stored) {
+  float sum = 0.0f;
+  for (uint k = 0u; k < d.octaves; ++k) {
+    float lambda = svo_detail_wavelength(d, k);
+    sum += (1.0f - svo_detail_weight(lambda, r_stored)) * svo_detail_amplitude(d, k) / lambda;
+  }
+  return sum * SVO_NOISE_MAX_GRADIENT;
+}
+
+// Colour-height covariance c = a_s sigma_h sqrt(pi) / 3 is what adds up when
+// independent height components with linear colour join (a_s is the
+// regression of colour on erf(h / (sqrt(2) sigma_h)) over Gaussian heights):
+// moving variance `moved` of heights whose colour changes by `colour_slope`
+// per unit height between statistics and explicit drawing changes c by
+// colour_slope moved. The a_s of a voxel whose height variance goes from
+// var to var + moved (moved may be negative).
+SVO_FN vec3 svo_detail_fold_a_s(vec3 a_s, float var, float moved, vec3 colour_slope) {
+  float var1 = var + moved;
+  if (!(var1 > 1.0e-4f * max(var, 1.0e-30f))) return vec3(0.0f);
+  vec3 c = a_s * sqrt(max(var, 0.0f)) + (3.0f / SVO_SQRT_PI) * colour_slope * moved;
+  return c / sqrt(var1);
+}
+
+#endif
