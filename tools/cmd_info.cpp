@@ -95,7 +95,17 @@ void print_json(const octree::SvoView& svo, const std::vector<Level>& levels) {
       {"bytes", svo.file_bytes()},
       {"bytes_per_voxel", nullptr},
       {"channels", channels},
-      {"per_level", per_level}};
+      {"per_level", per_level},
+      {"detail", nullptr}};
+  if (const octree::Detail& d = shape.detail; d.octaves > 0) {
+    out["detail"] = {{"octaves", d.octaves},
+                     {"seed", d.seed},
+                     {"amplitude", json_float(d.amplitude)},
+                     {"wavelength", json_float(d.wavelength)},
+                     {"gain", json_float(d.gain)},
+                     {"colour_slope", {json_float(d.colour_slope.x), json_float(d.colour_slope.y),
+                                       json_float(d.colour_slope.z)}}};
+  }
   if (voxels > 0) out["bytes_per_voxel"] = double(svo.file_bytes()) / double(voxels);
   std::cout << out.dump() << "\n";
 }
@@ -118,6 +128,13 @@ void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
   per_voxel << std::fixed << std::setprecision(3) << double(svo.file_bytes()) / double(voxels);
   row("bytes_per_voxel") << (voxels > 0 ? per_voxel.str() : "n/a (no voxels)") << "\n";
   row("sigma_rho2") << shape.sigma_rho2 << "\n";
+  if (const octree::Detail& d = shape.detail; d.octaves > 0) {
+    row("detail") << d.octaves << " octaves of wavelength " << d.wavelength << " / 2^k, amplitude " << d.amplitude
+                  << " x " << d.gain << "^k, seed " << d.seed << "; colour per unit height " << d.colour_slope.x
+                  << ", " << d.colour_slope.y << ", " << d.colour_slope.z << "\n";
+  } else {
+    row("detail") << "none\n";
+  }
   row("channels") << shape.channels.size() << "\n";
   for (size_t c = 0; c < shape.channels.size(); ++c) {
     const auto& info = shape.channels[c];

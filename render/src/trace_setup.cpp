@@ -175,20 +175,12 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   p.lens = glm::vec4(c.focus, float(s.spp), 0, float(root));
   p.domain = glm::vec4(tree.origin, tree.size);
   const float finest = tree.voxel_size(tree.depth_count - 1);
-  // Cone elements shorter than a quarter of the finest voxel see nothing new,
-  // unless detail octaves are drawn below it: then down to a quarter of the
-  // shortest wavelength.
-  float shortest = finest;
-  const octree::Detail& d = tree.detail;
-  if (d.octaves > 0) {
-    svo::math::SvoDetail sd{d.octaves, d.seed, d.amplitude, d.wavelength, d.gain};
-    const float stored = finest / svo::math::SVO_SQRT2;
-    shortest = std::min(finest, svo::math::svo_detail_wavelength(sd, d.octaves - 1));
-    p.detail = glm::vec4(d.amplitude, d.wavelength, d.gain, svo::math::svo_detail_slope_bound(sd, stored));
-    p.detail_colour = glm::vec4(d.colour_slope, stored);
+  if (const octree::Detail& d = tree.detail; d.octaves > 0) {
+    p.detail = glm::vec4(d.amplitude, d.wavelength, d.gain, 0);
+    p.detail_colour = glm::vec4(d.colour_slope, finest / svo::math::SVO_SQRT2);
     p.detail_u = glm::uvec4(d.octaves, d.seed, 0, 0);
   }
-  p.material = glm::vec4(tree.sigma_rho2, s.specular, finest, 0.25f * shortest);
+  p.material = glm::vec4(tree.sigma_rho2, s.specular, finest, 0);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);
   p.ambient = glm::vec4(s.ambient, 0);
   p.background = glm::vec4(s.background, 0);

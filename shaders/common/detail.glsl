@@ -160,14 +160,29 @@ SVO_FN vec2 svo_detail_moved_variance(SvoDetail d, float r, float r_stored) {
   return sum;
 }
 
-// Bound on |grad| of the displacement drawn beyond r_stored (any r).
-SVO_FN float svo_detail_slope_bound(SvoDetail d, float r_stored) {
-  float sum = 0.0f;
-  for (uint k = 0u; k < d.octaves; ++k) {
-    float lambda = svo_detail_wavelength(d, k);
-    sum += (1.0f - svo_detail_weight(lambda, r_stored)) * svo_detail_amplitude(d, k) / lambda;
-  }
-  return sum * SVO_NOISE_MAX_GRADIENT;
+// Bounds on what is drawn at footprint r beyond footprint r_stored:
+// (largest |displacement|, largest |gradient|), over whole octaves (those
+// with lambda_k > 4 r and not whole at r_stored), without a loop: octave
+// k's amplitude is amplitude gain^k and its slope (amplitude / wavelength)
+// (2 gain)^k.
+SVO_FN float svo_detail_series(float q, float k0, float k1) {
+  if (!(k1 > k0)) return 0.0f;
+  if (abs(q - 1.0f) < 1.0e-4f) return k1 - k0;
+  return (pow(q, k1) - pow(q, k0)) / (q - 1.0f);
+}
+
+// Octaves drawn at all at footprint r: those with lambda_k > 4 r.
+SVO_FN float svo_detail_drawn(SvoDetail d, float r) {
+  float n = float(d.octaves);
+  return r > 0.0f ? clamp(ceil(log2(d.wavelength / (4.0f * r))), 0.0f, n) : n;
+}
+
+SVO_FN vec2 svo_detail_bounds(SvoDetail d, float r, float r_stored) {
+  float n = float(d.octaves);
+  float k1 = svo_detail_drawn(d, r);
+  float k0 = clamp(floor(log2(d.wavelength / (8.0f * r_stored))) + 1.0f, 0.0f, n);
+  return vec2(d.amplitude * SVO_NOISE_MAX * svo_detail_series(d.gain, k0, k1),
+              d.amplitude / d.wavelength * SVO_NOISE_MAX_GRADIENT * svo_detail_series(2.0f * d.gain, k0, k1));
 }
 
 // Colour-height covariance c = a_s sigma_h sqrt(pi) / 3 is what adds up when

@@ -326,7 +326,16 @@ SVO_FN SvoMarch svo_march_start(float t) {
 // or samples the voxel under the element and computes its coverage mask.
 SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
-  float half_length = max(r, params.material.w);
+  // Elements shorter than a quarter of the finest voxel see nothing new,
+  // unless detail octaves are drawn: then a quarter of the finest drawn
+  // wavelength (between r and 2r).
+  float shortest = params.material.z;
+  if (svo_draws_detail(r)) {
+    SvoDetail d = svo_trace_detail();
+    float drawn = svo_detail_drawn(d, r);
+    if (drawn > 0.0f) shortest = min(shortest, svo_detail_wavelength(d, uint(drawn) - 1u));
+  }
+  float half_length = max(r, 0.25f * shortest);
   vec3 p = cone.o + cone.d * (m.t + half_length);
   uint last = params.tree.y - 1u;
   // The level whose trilinear filter matches the footprint: interpolation
@@ -349,6 +358,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   }
   SvoVoxel v;
   m.blend = 0.0f;
+  float lipschitz = 1.0f;  // of the distance along the cone
   if (mode == SVO_MODE_NEAREST) {
     v = svo_sample_nearest(m.lo_cell, p);
     m.mask = v.hbar <= 0.0f ? uvec4(0xFFFFFFFFu) : uvec4(0u);
@@ -365,10 +375,19 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     }
     // Detail octaves finer than the finest level, coarser than the element:
     // the surface moves by their displacement and tilts with their gradient.
+    // Outside the shell they can reach, the stored distance less the reach
+    // is a safe distance and nothing needs evaluating.
     vec4 detail = vec4(0.0f);
     if (svo_draws_detail(r)) {
-      detail = svo_detail_displacement(svo_trace_detail(), p, r, params.detail_colour.w);
-      v.hbar -= detail.w;
+      SvoDetail d = svo_trace_detail();
+      vec2 bounds = svo_detail_bounds(d, r, params.detail_colour.w);
+      if (v.hbar - bounds.x < half_length + r) {
+        detail = svo_detail_displacement(d, p, r, params.detail_colour.w);
+        v.hbar -= detail.w;
+        lipschitz = 1.0f + bounds.y;
+      } else {
+        v.hbar -= bounds.x;
+      }
     }
     if (v.hbar < half_length + r) {
       v.n = svo_sample_trilinear(m.lo_cell, p, SVO_PART_NORMAL).n;
@@ -386,10 +405,10 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   m.depth = m.t + half_length;
   m.radius = r;
   // The element cannot reach a surface farther than hbar: skip most of the gap.
-  // With detail drawn, the distance changes up to 1 + its slope bound per unit.
+  // Where detail is evaluated, the distance changes up to 1 + its slope
+  // bound per unit of length.
   float advance = 2.0f * half_length;
   if (mode != SVO_MODE_NEAREST && v.hbar > half_length + r) {
-    float lipschitz = svo_draws_detail(r) ? 1.0f + params.detail.w : 1.0f;
     advance = max(advance, half_length + 0.8f * (v.hbar - r) / lipschitz);
   }
   m.t += advance;

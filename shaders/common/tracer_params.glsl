@@ -40,7 +40,7 @@ struct SvoTraceParams {
   vec4 cam_w;      // xyz: unit view direction; w: lens radius (0: pinhole)
   vec4 lens;       // x: focus distance; y: rays per pixel (raymarch mode, n x n); z, w: first row and rows of them to trace
   vec4 domain;     // xyz: origin of the cube; w: its side
-  vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size; w: shortest cone element's half length
+  vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size
   vec4 constant_colour;  // abar when the file has no colour
   vec4 ambient;    // rgb
   vec4 background;  // rgb
@@ -50,7 +50,7 @@ struct SvoTraceParams {
   uvec4 offsets_a;  // byte offset in a brick of: distance, normal, height_dev, slope_dev (SVO_ABSENT)
   uvec4 offsets_b;  // slope_cov, colour, colour_slope, unused
   uvec4 encodings;  // encoding of: height_dev, slope_dev
-  vec4 detail;         // detail octaves (detail.glsl): x: amplitude, y: wavelength, z: gain; w: bound on the slope drawn below the finest level
+  vec4 detail;         // detail octaves (detail.glsl): x: amplitude, y: wavelength, z: gain
   vec4 detail_colour;  // xyz: colour per unit of detail height; w: footprint radius the finest level holds (voxel / sqrt(2))
   uvec4 detail_u;      // x: octaves (0: none); y: seed
   vec4 light_vector[4];    // xyz: direction towards the light, or position; w: 1 point, 0 directional

@@ -107,6 +107,29 @@ TEST(Detail, DisplacementDrawsOnlyTheOctavesBetweenTwoFootprints) {
   EXPECT_EQ(none, vec4(0.0f));
 }
 
+// The loop-free bounds hold over random points, and are not loose by more
+// than the whole octaves they count.
+TEST(Detail, BoundsHoldTheDrawnDisplacementAndSlope) {
+  SvoDetail d = test_detail();
+  const float stored = 0.01f;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (float r : {0.009f, 0.004f, 0.001f, 0.0001f}) {
+    vec2 bounds = svo_detail_bounds(d, r, stored);
+    float value = 0, slope = 0;
+    for (int i = 0; i < 20000; ++i) {
+      vec4 g = svo_detail_displacement(d, vec3(u(rng), u(rng), u(rng)), r, stored);
+      value = std::max(value, std::abs(g.w));
+      slope = std::max(slope, length(vec3(g)));
+    }
+    EXPECT_LE(value, bounds.x) << "r " << r;
+    EXPECT_LE(slope, bounds.y) << "r " << r;
+    if (value > 0) EXPECT_LT(bounds.x, 8.0f * value) << "r " << r;
+  }
+  // Nothing is drawn at footprints of a wavelength / 4 and more.
+  EXPECT_EQ(svo_detail_bounds(d, 0.1f / 4.0f, stored), vec2(0.0f));
+}
+
 // Colour linear in two independent Gaussian heights: the fold of the second
 // into the first's a_s must equal the regression over both (the statistic
 // the voxelizer computes, statistics.h).

@@ -119,7 +119,7 @@ class SvoView {
 
   const std::string& name() const { return name_; }
   uint64_t file_bytes() const { return bytes_.size(); }
-  uint32_t version() const { return 2; }  // the only version this build reads
+  uint32_t version() const { return shape_.detail.octaves > 0 ? 3 : 2; }  // 3: with the detail block
 
   // The header's scalar fields, channels and depth table, as an Octree with
   // no nodes and no brick data (its brick_count is set).
