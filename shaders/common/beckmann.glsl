@@ -36,8 +36,15 @@ SVO_FN float svo_beckmann_d(vec3 m, vec2 sigma2) {
 // sees more of lean towards it. Written with 1 / sqrt(1 + sx^2 + sy^2) for
 // the first bracket (the same to first order, positive for any slopes) and
 // v.z floored at 0.25 where the expansion would blow up at grazing views.
+// Beyond slope variance 0.1 per axis the expansion undershoots (facets
+// facing away from v or l drop out of the true mean: at variance 1 it would
+// give half the true value), so the variances are capped there: the factor
+// then lies between l.z and the true mean (Monte Carlo, variances 0.02 to 3).
 // The macro-normal Lambert term of paper Eq. 13 is l.z.
-SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2) {
+SVO_CONST float SVO_ROUGH_LAMBERT_MAX_VARIANCE = 0.1f;
+
+SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2_in) {
+  vec2 sigma2 = min(sigma2_in, vec2(SVO_ROUGH_LAMBERT_MAX_VARIANCE));
   float shrink = 1.0f / sqrt(1.0f + sigma2.x + sigma2.y);
   float lean = (sigma2.x * l.x * v.x + sigma2.y * l.y * v.y) / max(v.z, 0.25f);
   return max((l.z + lean) * shrink, 0.0f);
