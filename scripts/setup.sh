@@ -27,6 +27,7 @@ PACKAGES=(
   libembree-dev                            # meshes ray traced for svo reference (ground truth)
   xvfb xauth xdotool                       # xvfb-run, keys: the viewer's tests without a display
   libgtest-dev libgmock-dev                # tests
+  libcgal-demo                             # the Stanford bunny (bunny00.off) of the far-view accuracy test
 )
 
 missing=()
