@@ -41,6 +41,27 @@ TEST(Material, Eq17FollowsTheGroundTruthUpTo70DegreesAndMipDoesNot) {
   EXPECT_GT(mip_worst, 0.01f) << "MIP colour should miss the view dependence";
 }
 
+// The paper's claim at every angle, 0 to 85 degrees: on the same waves at
+// slope variance 0.01 per axis (the paper's Fig. 9 surface is of this kind:
+// its colour shift appears only at grazing angles), Eq. 17 stays within 1%
+// of the ground truth, and MIP colour, blind to the view, is off by more
+// (4.3% at 85 degrees).
+TEST(Material, Eq17FollowsTheGroundTruthAtEveryAngleOnASmootherField) {
+  voxelizer::HeightfieldScene field(64, 0.08f, 0.25f, 0.0029f, 5, glm::vec3(0.45f, 0.4f, 0.3f), glm::vec3(0.3f, 0.2f, 0.15f));
+  ASSERT_NEAR(field.slope_variance().x, 0.0099f, 0.0005f);
+  MaterialOptions o;
+  o.degrees = {0, 15, 30, 45, 60, 70, 75, 80, 85};
+  std::vector<MaterialPoint> curve = material_curve(field, o);
+  float mip_worst = 0;
+  for (const auto& p : curve) {
+    float e17 = relative(p.eq17, p.truth), em = relative(p.mip, p.truth);
+    std::printf("%4.0f deg: eq17 %.2f%%, mip %.2f%%\n", p.degrees, 100 * e17, 100 * em);
+    EXPECT_LT(e17, 0.01f) << p.degrees << " degrees";
+    mip_worst = std::max(mip_worst, em);
+  }
+  EXPECT_GT(mip_worst, 0.02f) << "MIP colour should miss the view dependence";
+}
+
 TEST(Material, RefusesAPatchLargerThanTheField) {
   auto scene = voxelizer::make_scene("heightfield");
   MaterialOptions o;
