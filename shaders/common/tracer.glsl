@@ -345,6 +345,14 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   // than "voxel = diameter". Measured on the bumpy sphere's far view (256^3,
   // 256x256): relMSE 0.00181 at voxel = 2r, 0.00093 at sqrt(2) r, 0.00102 at r.
   float df = clamp(log2(params.domain.w / (float(params.tree.x) * SVO_SQRT2 * r)), 0.0f, float(last));
+  // Outside the domain (a defocused cone's elements may start there): empty.
+  vec3 inside = (p - vec3(params.domain)) / params.domain.w;
+  if (any(lessThan(inside, vec3(0.0f))) || any(greaterThanEqual(inside, vec3(1.0f)))) {
+    m.hit = false;
+    m.mask = uvec4(0u);
+    m.t += 2.0f * half_length;
+    return m;
+  }
   uint lo = mode == SVO_MODE_NEAREST ? uint(floor(df + 0.5f)) : uint(floor(df));
   float w = mode == SVO_MODE_NEAREST ? 0.0f : df - float(lo);
   if (!svo_cell_holds(m.lo_cell, p, lo)) m.lo_cell = svo_lookup(p, lo);
@@ -582,8 +590,13 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
   vec3 d = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
   SvoCone cone = svo_make_cone(vec3(params.eye), d, 0.0f, k, params.cam_w.w, params.lens.x);
-  float t0 = max(svo_box_entry(cone.o, cone.inv_d, vec3(params.domain), params.domain.w), 0.0f);
-  float t1 = svo_box_exit(cone.o, cone.inv_d, vec3(params.domain), params.domain.w);
+  // The domain grown by the widest the cone gets inside it: a defocused
+  // cone whose axis misses the domain may still cover some of it.
+  float reach = length(vec3(params.eye) - (vec3(params.domain) + 0.5f * params.domain.w)) + params.domain.w;
+  float grow = params.cam_w.w > 0.0f ? svo_cone_radius(cone, reach) : 0.0f;
+  vec3 lo = vec3(params.domain) - grow;
+  float t0 = max(svo_box_entry(cone.o, cone.inv_d, lo, params.domain.w + 2.0f * grow), 0.0f);
+  float t1 = svo_box_exit(cone.o, cone.inv_d, lo, params.domain.w + 2.0f * grow);
   SvoMarch m = svo_march_start(t0);
   vec3 radiance = vec3(0.0f);
   vec4 g0 = vec4(0.0f);
