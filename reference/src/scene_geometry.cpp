@@ -33,7 +33,6 @@ class SceneGeometry : public Geometry {
     lo_ = lo - 0.02 * extent_;
     hi_ = hi + 0.02 * extent_;
     epsilon_ = 1e-6 * extent_;
-    lipschitz_ = std::max(1.0, double(scene.lipschitz()));
   }
 
   std::optional<SurfaceHit> intersect(glm::dvec3 o, glm::dvec3 d, double t_min, double t_max) const override {
@@ -80,8 +79,8 @@ class SceneGeometry : public Geometry {
         relaxed = false;
         continue;
       }
-      const double f = scene_.distance(glm::vec3(o + t * d));
-      const double r = std::abs(f) / lipschitz_;
+      const glm::dvec2 bound = scene_.distance_bound(glm::vec3(o + t * d));
+      const double f = bound.x, r = bound.y;
       if (relaxed && radius + r < step) {
         // The two spheres leave a gap: back to the safe step from the last point.
         t += radius - step;
@@ -118,7 +117,7 @@ class SceneGeometry : public Geometry {
   static constexpr double kRelaxation = 1.6;
   const voxelizer::AnalyticScene& scene_;
   glm::dvec3 lo_, hi_;
-  double extent_ = 1, epsilon_ = 1e-6, lipschitz_ = 1;
+  double extent_ = 1, epsilon_ = 1e-6;
 };
 
 }  // namespace

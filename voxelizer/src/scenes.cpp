@@ -26,6 +26,11 @@ double AnalyticScene::surface_area() const {
   return 1.5 * 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
 }
 
+glm::dvec2 AnalyticScene::distance_bound(glm::vec3 p) const {
+  double f = distance(p);
+  return {f, std::abs(f) / std::max(1.0, double(lipschitz()))};
+}
+
 glm::vec4 AnalyticScene::distance_gradient(glm::vec3 p) const {
   const float e = 1e-4f;
   glm::vec3 g(distance(p + glm::vec3(e, 0, 0)) - distance(p - glm::vec3(e, 0, 0)),
@@ -314,6 +319,20 @@ DetailedScene::DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::
     slope += detail_.amplitude * std::pow(detail_.gain, float(k)) / (detail_.wavelength * std::exp2(-float(k)));
   }
   lipschitz_ = base_->lipschitz() + slope * svo::math::SVO_NOISE_MAX_GRADIENT;
+  for (uint32_t k = 0; k < detail_.octaves; ++k) reach_ += detail_.amplitude * std::pow(detail_.gain, float(k));
+  reach_ *= svo::math::SVO_NOISE_MAX;
+}
+
+glm::dvec2 DetailedScene::distance_bound(glm::vec3 p) const {
+  glm::dvec2 base = base_->distance_bound(p);
+  const double margin = std::abs(base.x) - reach_;
+  if (margin > 0) {
+    // The displaced surface lies within reach_ of the base's (along its
+    // gradient of norm ~1): a sphere of base radius * (margin / |f|) is clear.
+    return {base.x, base.y * margin / std::abs(base.x)};
+  }
+  double f = distance(p);
+  return {f, std::abs(f) / std::max(1.0, double(lipschitz_))};
 }
 
 void DetailedScene::prepare(const Lattice& lattice) {
@@ -338,10 +357,7 @@ glm::vec3 DetailedScene::colour(glm::vec3 q) const {
 
 Box DetailedScene::bounds() const {
   Box b = base_->bounds();
-  float reach = 0;
-  for (uint32_t k = 0; k < detail_.octaves; ++k) reach += detail_.amplitude * std::pow(detail_.gain, float(k));
-  reach *= svo::math::SVO_NOISE_MAX;
-  return {b.lo - reach, b.hi + reach};
+  return {b.lo - reach_, b.hi + reach_};
 }
 
 glm::vec2 detail_folded_variance(const octree::Detail& detail, double voxel) {

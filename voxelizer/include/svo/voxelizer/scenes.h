@@ -25,6 +25,9 @@ class AnalyticScene : public SurfaceSource {
   // scene knows it in closed form.
   virtual glm::vec4 distance_gradient(glm::vec3 p) const;
   virtual float lipschitz() const { return 1.0f; }
+  // (distance(p), a radius around p that holds no surface point) for sphere
+  // tracing: |distance| / max(1, lipschitz()) unless a scene knows better.
+  virtual glm::dvec2 distance_bound(glm::vec3 p) const;
   // Attribute (linear RGB) at a surface point.
   virtual glm::vec3 colour(glm::vec3 surface_point) const = 0;
   // Scene name as given to --scene.
@@ -68,6 +71,9 @@ class DetailedScene : public AnalyticScene {
   float distance(glm::vec3 p) const override;
   glm::vec4 distance_gradient(glm::vec3 p) const override;
   float lipschitz() const override { return lipschitz_; }
+  // Outside the shell the octaves can reach, the base's own bound less the
+  // reach, without evaluating the octaves.
+  glm::dvec2 distance_bound(glm::vec3 p) const override;
   glm::vec3 colour(glm::vec3 surface_point) const override;
   glm::vec3 colour_height_slope() const override { return base_->colour_height_slope(); }
   std::string name() const override { return base_->name(); }
@@ -85,6 +91,7 @@ class DetailedScene : public AnalyticScene {
   bool all_;
   float drawn_radius_ = 0;  // footprint radius whose octaves are drawn (0: all)
   float lipschitz_ = 1;
+  float reach_ = 0;  // largest |displacement|
 };
 
 // Detail octaves with the defaults of the command line: octave 0 of
