@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -114,10 +115,13 @@ TEST_F(SvoCorrupt, WrongMagicAndVersion) {
   bytes[0] = 'X';
   bytes[7] = 0;
   expect_rejected(bytes, "not an .svo file (magic is 'XVOCTRE\\x00', expected 'SVOCTREE')");
-  // Version 1 stored (B + 1)^3 samples per brick; this build reads version 2 only.
+  // Version 1 stored (B + 1)^3 samples per brick; this build reads versions 2 and 3.
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 1); },
-                         "unsupported version 1 (this build reads version 2)");
-  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 3); }, "unsupported version 3");
+                         "unsupported version 1 (this build reads versions 2 and 3)");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 4); }, "unsupported version 4");
+  // A version-2 file relabelled 3 lacks the detail block its channel table must follow.
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 3); },
+                         "channel table offset 128 overlaps the previous section, which ends at 192");
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 0); }, "unsupported version 0");
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::header_bytes, 64); }, "header_bytes is 64");
 }
@@ -264,4 +268,30 @@ TEST_F(SvoCorrupt, ResealedRandomEditsNeverCrash) {
 }
 
 }  // namespace
+// Version 3: the detail block is validated like the header.
+TEST_F(SvoCorrupt, DetailBlockValues) {
+  Octree tree = testing::make_test_tree(9);
+  tree.detail = {4, 7, 0.002f, 0.02f, 0.5f, glm::vec3(1, 2, 3)};
+  write_svo(dir_ / "detail.svo", tree);
+  const std::vector<uint8_t> good = testing::read_bytes(dir_ / "detail.svo");
+  ASSERT_EQ(format::decode_header(good.data()).version, 3u);
+  EXPECT_EQ(load_svo(dir_ / "detail.svo").detail.octaves, 4u);
+  auto forged = [&](size_t offset, uint32_t bits, const std::string& what) {
+    std::vector<uint8_t> bytes = good;
+    put_u32(bytes.data() + format::kHeaderBytes + offset, bits);
+    format::seal(bytes);
+    expect_rejected(bytes, what);
+  };
+  auto f32 = [](float v) { uint32_t u; std::memcpy(&u, &v, 4); return u; };
+  forged(0, 0, "detail octaves is 0 (must be in [1, 32])");
+  forged(0, 33, "detail octaves is 33");
+  forged(8, f32(std::nanf("")), "detail amplitude is nan");
+  forged(8, f32(0.5f), "detail amplitude is 0.5 (must be finite, > 0 and at most the wavelength)");
+  forged(12, f32(-1.0f), "detail wavelength is -1");
+  forged(16, f32(0.0f), "detail gain is 0");
+  forged(20, f32(INFINITY), "detail colour_slope[0] is inf");
+  std::vector<uint8_t> truncated(good.begin(), good.begin() + 150);
+  expect_rejected(truncated, "truncated: detail block needs 64 bytes at offset 128, file has 150");
+}
+
 }  // namespace svo::octree
