@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "memory.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
@@ -34,6 +35,7 @@ struct RenderArgs {
   bool validate = false;
   bool cpu = false;
   bool json = false;
+  double max_memory_mb = 0;
 };
 
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
@@ -92,6 +94,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->excludes(validate)
       ->group("Device");
 
+  cmd->add_option("--max-memory", a->max_memory_mb,
+                  "Refuse a frame whose host memory estimate is above this, MiB (default: available memory)")
+      ->check(CLI::PositiveNumber)
+      ->group("Limits");
+
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked without the octree or a device.
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
@@ -109,6 +116,18 @@ void add_render_command(CLI::App& app, int& exit_code) {
       render::check_writable_output(a->gbuffer);
     }
     if (!a->save_camera.empty()) render::check_writable_output(a->save_camera);
+    // The frame on the host: colour (16 bytes a pixel), steps (4), the
+    // file's copy (up to 16), the G-buffer and its file's copy (2 x 48).
+    {
+      const double pixels = double(a->view.width) * double(a->view.height);
+      const double mib = pixels * (16 + 4 + 16 + (a->gbuffer.empty() ? 0 : 96)) / (1024.0 * 1024.0);
+      const double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
+      if (limit > 0 && mib > limit) {
+        throw std::runtime_error("a " + std::to_string(a->view.width) + "x" + std::to_string(a->view.height) +
+                                 " frame needs about " + std::to_string(int64_t(mib)) + " MiB, above the limit of " +
+                                 std::to_string(int64_t(limit)) + " MiB (--max-memory)");
+      }
+    }
 
     // --- The octree, the camera and the lights.
     auto start = std::chrono::steady_clock::now();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "memory.h"
 #include "progress.h"
 #include "source_options.h"
 #include "svo/octree/svo_file.h"
@@ -31,18 +32,6 @@ double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
-}
-
-// MemAvailable from /proc/meminfo, in MiB (0 if unknown).
-double available_memory_mb() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kb = 0;
-  std::string unit;
-  while (meminfo >> key >> kb >> unit) {
-    if (key == "MemAvailable:") return kb / 1024.0;
-  }
-  return 0;
 }
 
 }  // namespace
@@ -76,7 +65,13 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     if (!a->source.scene.empty()) {
       source = make_scene_source(a->source, /*all_octaves=*/false);
     } else {
-      source = voxelizer::load_mesh(a->source.input, mesh_options(a->source));
+      // The mesh's repairs and caveats (degenerate triangles dropped, an
+      // open surface, whose inside the level set guesses): one line each on
+      // stderr, the run goes on. (svo reference ray traces the triangles
+      // themselves: neither matters there.)
+      voxelizer::MeshOptions options = mesh_options(a->source);
+      options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
+      source = voxelizer::load_mesh(a->source.input, options);
     }
     // Refuse an output that cannot be written before minutes of work, not after.
     std::filesystem::path out_dir = std::filesystem::absolute(a->output).parent_path();

@@ -1,6 +1,5 @@
 #include "source_options.h"
 
-#include <iostream>
 #include <stdexcept>
 
 namespace svo::tools {
@@ -65,9 +64,6 @@ voxelizer::MeshOptions mesh_options(const SourceOptions& o) {
   voxelizer::MeshOptions options;
   if (o.colour.size() == 3) options.colour = glm::vec3(o.colour[0], o.colour[1], o.colour[2]);
   if (o.roughness >= 0) options.sigma_rho = o.roughness;
-  // Repairs and caveats of the mesh (degenerate triangles dropped, an open
-  // surface): one line each on stderr, the run goes on.
-  options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
   return options;
 }
 

@@ -45,8 +45,7 @@ std::string source_name(const SourceOptions& o);
 // can draw, the rest folded into the statistics (voxelizer::DetailedScene).
 std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves = true);
 
-// --colour and --roughness as mesh options; the mesh's warnings (repairs,
-// an open surface) go to stderr as "svo: warning: <path>: <what>".
+// --colour and --roughness as mesh options.
 voxelizer::MeshOptions mesh_options(const SourceOptions& o);
 
 }  // namespace svo::tools

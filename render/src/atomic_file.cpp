@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -32,6 +34,14 @@ void write_atomically(const std::string& path, const std::function<void(const st
   static std::atomic<unsigned> counter{0};
   Temporary tmp{path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++)};
   write(tmp.name);
+  // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_WRITE
+  // set, stop here, the temporary written and not renamed, announced on
+  // stderr, for up to 60 s, so that a test can kill the process mid-write.
+  if (std::getenv("SVO_TEST_STALL_WRITE")) {
+    std::fprintf(stderr, "svo: test hook: stalled writing %s\n", tmp.name.c_str());
+    std::fflush(stderr);
+    for (int i = 0; i < 600; ++i) ::usleep(100000);
+  }
   int fd = ::open(tmp.name.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) fail(path, "opening " + tmp.name, errno);
   if (::fsync(fd) != 0) {

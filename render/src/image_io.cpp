@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "atomic_file.h"
+#include "svo/octree/image_header.h"
 
 namespace svo::render {
 
@@ -149,16 +150,29 @@ int Image::channel(const std::string& name) const {
 
 Image read_image(const std::string& path) {
   if (!fs::exists(path)) throw ImageError(path + ": no such file");
-  auto in = OIIO::ImageInput::open(path);
+  // Checks in front of the format libraries, which trust their headers.
+  for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
+    if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
+  }
+  // The reader of the file's extension only: OpenImageIO's open() would
+  // otherwise try every format it knows on a file its extension's rejects.
+  auto in = OIIO::ImageInput::create(path, false);
   if (!in) throw ImageError(path + ": cannot read: " + one_line(OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
+  OIIO::ImageSpec spec;
+  if (!in->open(path, spec)) throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
     throw ImageError(path + ": not a 2D image");
+  }
+  // From the header, before the allocation: a forged size is refused here.
+  if (double(spec.width) * double(spec.height) * double(spec.nchannels) > kMaxImageSamples) {
+    throw ImageError(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                     std::to_string(spec.nchannels) + " samples, more than the limit of 2^28");
   }
   Image image;
   image.width = spec.width;
   image.height = spec.height;
   image.channels = spec.channelnames;
+  image.channels.resize(size_t(spec.nchannels));  // one name per channel, whatever the file says
   image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
     throw ImageError(path + ": cannot read: " + one_line(in->geterror()));

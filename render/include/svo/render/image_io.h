@@ -72,8 +72,11 @@ struct Image {
 // Reads any image OpenImageIO reads, as float. 8- and 16-bit files in the
 // sRGB colour space (PNG, as written here) are converted to linear values,
 // so that a PNG and an EXR of the same frame compare directly.
-// @throw ImageError "<path>: <reason>" (cannot open, not an image, ...).
+// Images of more than kMaxImageSamples samples (width x height x channels)
+// are refused from their header, before their pixels are allocated.
+// @throw ImageError "<path>: <reason>" (cannot open, not an image, too large, ...).
 Image read_image(const std::string& path);
+inline constexpr double kMaxImageSamples = 268435456.0;  // 2^28: 1 GiB of floats
 
 // The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
 float linear_to_srgb(float linear);

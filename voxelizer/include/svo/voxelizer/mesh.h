@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -21,7 +22,19 @@ struct MeshOptions {
   // Micro-BRDF slope deviation sigma_rho; < 0: from the OBJ's materials
   // (Pr roughness, else Ns Phong exponent), else 0.1.
   float sigma_rho = -1;
+  // Receives one line per documented repair or caveat ("<path>: <what>"):
+  // degenerate triangles dropped, an open or non-manifold surface. Unset:
+  // silent.
+  std::function<void(const std::string&)> warning;
 };
+
+// Coordinates beyond +-kMaxCoordinate are refused: the renderer squares
+// distances in float (3.4e38), and the octree's origin and size are floats.
+inline constexpr double kMaxCoordinate = 1e15;
+
+// Largest texture read: 8192^2 texels of at most 4 channels, 16384 a side;
+// a larger one is refused from its header, before its pixels are allocated.
+inline constexpr double kMaxTextureTexels = 8192.0 * 8192.0;
 
 // A texture in linear RGB (8- and 16-bit files are decoded from sRGB),
 // sampled bilinearly with wrap-around; OBJ convention: v up.
@@ -42,7 +55,9 @@ struct TriangleMesh {
   std::vector<int> face_texture;                  // index into textures, or -1
   std::vector<std::array<glm::vec2, 3>> face_uv;  // texture coordinates of the corners
   std::vector<Texture> textures;
-  size_t degenerate = 0;  // faces skipped for zero area
+  size_t degenerate = 0;         // faces skipped for zero area
+  size_t open_edges = 0;         // edges of exactly one kept triangle (0: closed)
+  size_t nonmanifold_edges = 0;  // edges of three or more kept triangles
   double area = 0;        // scene units squared
   float sigma_rho2 = 0.01f;
   Box bounds;
@@ -52,17 +67,55 @@ struct TriangleMesh {
   glm::vec3 colour(size_t triangle, glm::dvec3 bary) const;
 };
 
+// What a mesh file holds once parsed, before any check: the input of
+// make_triangle_mesh. Corner indices, uv and texture indices come from the
+// file and may be anything.
+struct MeshArrays {
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::vec3> colours;                 // empty, or one per position (linear RGB)
+  std::vector<glm::ivec3> triangles;              // corner indices into positions
+  std::vector<std::array<glm::vec2, 3>> face_uv;  // empty, or one per triangle
+  std::vector<int> face_texture;                  // empty, or one per triangle: index into textures or -1
+  std::vector<Texture> textures;
+};
+
+// Checks and repairs parsed mesh data into a TriangleMesh; `path` names the
+// input in messages. Refused, std::runtime_error "<path>: <problem>" (one
+// line): no triangles; a per-vertex or per-face array whose count differs
+// from the vertex or triangle count; a non-finite coordinate or one beyond
+// +-kMaxCoordinate; a corner index outside [0, vertex count); a texture index
+// outside [-1, texture count); a non-finite texture coordinate on a textured
+// face (those of untextured faces are ignored, set to 0); a texture
+// without texels; no triangle of non-zero area; a zero extent.
+// Repaired (counted, reported through options.warning): triangles of zero
+// area are dropped (they have no normal and bound nothing). Reported, kept:
+// open edges (used by one triangle) and non-manifold edges (three or more);
+// the level set of such a surface is still a band around every triangle,
+// but its inside/outside sign is OpenVDB's flood-fill guess (docs/RESULTS.md,
+// "Reliability").
+TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays arrays, const MeshOptions& options = {});
+
+// Reads a texture image through OpenImageIO into linear RGB (8- and 16-bit
+// files decoded from sRGB, at most 3 channels used, one channel as grey),
+// with the reader of the file's extension only.
+// @throw std::runtime_error "<mesh_path>: texture <file>: <problem>" for a
+//        missing or unreadable file, an unsupported format, no pixels, more
+//        than kMaxTextureTexels texels or 4 kMaxTextureTexels samples (from
+//        the header), an OpenEXR header that check_exr_header refuses.
+//        Texel values are clamped to [0, 1e4], NaN read as 0.
+Texture read_texture(const std::string& file, const std::string& mesh_path);
+
 // Reads a mesh file (OBJ, PLY, OFF, STL through OpenMesh) with its vertex
 // colours, and for OBJ its textures (map_Kd) and micro-BRDF roughness. The
 // file is untrusted: throws std::runtime_error with "<path>: <problem>" for
-// an unreadable file, an unknown format, no triangles, non-finite
-// coordinates, a zero extent or a missing texture.
+// an unreadable file, an unknown format, a missing texture, and every
+// refusal of make_triangle_mesh, which it calls. What OpenMesh 9.0 would
+// trust is checked first, strictly: PLY headers, OFF headers and bodies,
+// OBJ face lines (binary OFF and OBJ "vc" lines are refused).
 TriangleMesh read_mesh(const std::string& path, const MeshOptions& options = {});
 
 // Loads a mesh as a surface source (read_mesh, then OpenVDB's level set in
-// prepare()). The file is untrusted: throws std::runtime_error with
-// "<path>: <problem>" for an unreadable file, an unknown format, no
-// triangles, non-finite coordinates or a zero extent.
+// prepare()). The file is untrusted: throws what read_mesh throws.
 std::unique_ptr<SurfaceSource> load_mesh(const std::string& path, const MeshOptions& options = {});
 
 }  // namespace svo::voxelizer

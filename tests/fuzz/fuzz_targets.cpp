@@ -1,0 +1,227 @@
+#include "fuzz_targets.h"
+
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <stdexcept>
+
+#include "svo/octree/svo_file.h"
+#include "svo/render/camera.h"
+#include "svo/render/camera_path.h"
+#include "svo/render/image_io.h"
+#include "svo/voxelizer/mesh.h"
+#include "svo_format.h"
+
+namespace svo::fuzz {
+
+namespace {
+
+// A fatal finding: the contract itself is broken (not a sanitizer report).
+[[noreturn]] void broken(const std::string& what) {
+  std::fprintf(stderr, "fuzz: contract broken: %s\n", what.c_str());
+  std::abort();
+}
+
+// The documented errors are one line: a message with a newline breaks the contract.
+int refused(const std::exception& e) {
+  if (std::strchr(e.what(), '\n')) broken(std::string("a message of several lines: ") + e.what());
+  if (!*e.what()) broken("an empty message");
+  return 0;
+}
+
+// A temporary file of this process, removed on scope exit.
+struct TempFile {
+  std::string path;
+  TempFile(const uint8_t* data, size_t size, const std::string& extension) {
+    std::filesystem::path dir = std::filesystem::is_directory("/dev/shm") ? std::filesystem::path("/dev/shm")
+                                                                          : std::filesystem::temp_directory_path();
+    path = (dir / ("svo-fuzz-" + std::to_string(::getpid()) + extension)).string();
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+    if (!out) broken("cannot write " + path);
+  }
+  ~TempFile() { ::unlink(path.c_str()); }
+};
+
+// Reads little-endian values from the input, zeros once it runs out.
+struct Reader {
+  const uint8_t* data;
+  size_t size, at = 0;
+  template <typename T>
+  T get() {
+    uint8_t bytes[sizeof(T)] = {};
+    for (size_t i = 0; i < sizeof(T) && at < size; ++i) bytes[i] = data[at++];
+    T v;
+    std::memcpy(&v, bytes, sizeof(T));
+    return v;
+  }
+};
+
+constexpr uint32_t kMaxVertices = 2048, kMaxTriangles = 2048;
+
+}  // namespace
+
+int svo_load(const uint8_t* data, size_t size) {
+  std::vector<uint8_t> bytes(data, data + size);  // aligned for SvoView
+  if (bytes.size() >= octree::format::kHeaderBytes) octree::format::seal(bytes);
+  try {
+    octree::SvoView view(bytes, "fuzz.svo");
+    octree::validate_octree(view.copy());
+    return 1;
+  } catch (const octree::FileError& e) {
+    return refused(e);
+  }
+}
+
+int mesh_arrays(const uint8_t* data, size_t size) {
+  Reader in{data, size};
+  const uint32_t n = in.get<uint32_t>() % (kMaxVertices + 1), m = in.get<uint32_t>() % (kMaxTriangles + 1);
+  const uint8_t flags = in.get<uint8_t>();
+  voxelizer::MeshArrays a;
+  for (uint32_t i = 0; i < n; ++i) {
+    double x = in.get<double>(), y = in.get<double>(), z = in.get<double>();
+    a.positions.emplace_back(x, y, z);
+  }
+  if (flags & 1)
+    for (uint32_t i = 0; i < n; ++i) {
+      float r = in.get<float>(), g = in.get<float>(), b = in.get<float>();
+      a.colours.emplace_back(r, g, b);
+    }
+  for (uint32_t i = 0; i < m; ++i) {
+    int32_t p = in.get<int32_t>(), q = in.get<int32_t>(), r = in.get<int32_t>();
+    a.triangles.emplace_back(p, q, r);
+  }
+  if (flags & 2)
+    for (uint32_t i = 0; i < m; ++i) {
+      std::array<glm::vec2, 3> uv;
+      for (auto& c : uv) c.x = in.get<float>(), c.y = in.get<float>();
+      a.face_uv.push_back(uv);
+    }
+  if (flags & 4)
+    for (uint32_t i = 0; i < m; ++i) a.face_texture.push_back(in.get<int32_t>());
+  if (flags & 8) {
+    voxelizer::Texture t;
+    t.width = t.height = 2;
+    for (int i = 0; i < 4; ++i) t.texels.emplace_back(0.25f * float(i), 0.5f, 1.0f);
+    a.textures.push_back(t);
+  }
+  if ((flags & 16) && !a.colours.empty()) a.colours.pop_back();  // a count that disagrees (when there are colours)
+  voxelizer::TriangleMesh mesh;
+  try {
+    mesh = voxelizer::make_triangle_mesh("fuzz.obj", std::move(a));
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+  const size_t count = mesh.triangles.size();
+  if (count == 0 || mesh.face_normals.size() != count || mesh.face_uv.size() != count ||
+      mesh.face_texture.size() != count || mesh.colours.size() != mesh.positions.size()) {
+    broken("accepted mesh with inconsistent arrays");
+  }
+  if (!(mesh.area > 0) || !std::isfinite(mesh.area)) broken("accepted mesh with area " + std::to_string(mesh.area));
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(mesh.bounds.lo[k]) || !std::isfinite(mesh.bounds.hi[k])) broken("non-finite bounds");
+  }
+  for (size_t f = 0; f < count; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size()) broken("corner out of range");
+    }
+    if (std::abs(glm::length(mesh.face_normals[f]) - 1.0f) > 1e-3f) broken("normal not unit");
+    glm::vec3 c = mesh.colour(f, glm::dvec3(1.0 / 3));
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) broken("non-finite colour");
+  }
+  return 1;
+}
+
+int mesh_file(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  static const char* kExtensions[] = {".obj", ".off", ".ply", ".stl"};
+  TempFile file(data + 1, size - 1, kExtensions[data[0] % 4]);
+  try {
+    voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file.path);
+    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size()) broken("corner out of range");
+      }
+      (void)mesh.colour(f, glm::dvec3(1.0 / 3));
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+int camera(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
+  try {
+    switch (data[0] % 4) {
+      case 0: render::parse_camera_json(text, "fuzz.json"); break;
+      case 1: render::parse_camera(text); break;
+      case 2: render::parse_light(text, glm::vec3(0)); break;
+      default: {
+        render::CameraPath path = render::parse_camera_path(text, "fuzz-path.json");
+        if (path.keys.size() < 2 || path.frames < 2) broken("accepted path with fewer than 2 keys or frames");
+        // Every camera along an accepted path must be usable.
+        const uint32_t frames = std::min<uint32_t>(path.frames, 64);
+        for (uint32_t f = 0; f < frames; ++f) {
+          render::Camera c = render::sample_path(path.keys, double(f) * double(path.keys.size() - 1) / (frames - 1));
+          for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(c.eye[k]) || !std::isfinite(c.target[k]) || !std::isfinite(c.up[k])) {
+              broken("a non-finite camera along an accepted path");
+            }
+          }
+        }
+      }
+    }
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    return refused(e);
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+int texture(const uint8_t* data, size_t size) {
+  if (size < 2) return 0;
+  static const char* kExtensions[] = {".png", ".exr", ".ppm", ".tga"};
+  TempFile file(data + 2, size - 2, kExtensions[data[0] % 4]);
+  try {
+    if (data[1] % 2 == 0) {
+      voxelizer::Texture t = voxelizer::read_texture(file.path, "fuzz.obj");
+      if (t.width <= 0 || t.height <= 0 || t.texels.size() != size_t(t.width) * size_t(t.height)) {
+        broken("accepted texture without texels");
+      }
+      for (const glm::vec3& c : t.texels) {
+        for (int k = 0; k < 3; ++k) {
+          if (!(c[k] >= 0 && c[k] <= 1e4f)) broken("texel outside [0, 1e4]: " + std::to_string(c[k]));
+        }
+      }
+      (void)t.sample(glm::vec2(0.3f, 0.7f));
+    } else {
+      render::Image image = render::read_image(file.path);
+      if (image.pixels.size() != size_t(image.width) * size_t(image.height) * image.channels.size()) {
+        broken("accepted image whose pixel count disagrees with its size");
+      }
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+std::vector<std::string> target_names() { return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture"}; }
+
+int run_target(const std::string& name, const uint8_t* data, size_t size) {
+  if (name == "svo_load") return svo_load(data, size);
+  if (name == "mesh_arrays") return mesh_arrays(data, size);
+  if (name == "mesh_file") return mesh_file(data, size);
+  if (name == "camera") return camera(data, size);
+  if (name == "texture") return texture(data, size);
+  throw std::invalid_argument("no fuzz target " + name);
+}
+
+}  // namespace svo::fuzz

@@ -1,0 +1,60 @@
+// The fuzz targets' bodies (STYLE 9), shared by the libFuzzer executables
+// (fuzz_main.cpp, Clang only) and by the replay test (fuzz_replay_test.cpp,
+// every compiler), which runs the seed corpora and the regression inputs
+// under regressions/<target>/ through the same code.
+//
+// Contract of each: any bytes give either an accepted input (return 1) or
+// the one-line error the input's API documents (return 0); never a crash, a
+// hang, a sanitizer report or another exception.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace svo::fuzz {
+
+// The .svo loader: checksums recomputed first (so that mutations reach the
+// checks behind them), then SvoView and validate_octree.
+int svo_load(const uint8_t* data, size_t size);
+
+// make_triangle_mesh on arrays decoded from the bytes (mesh_arrays_encode's
+// layout); an accepted mesh is then checked: corners in range, a unit
+// normal per triangle, finite bounds, and a colour at every triangle.
+int mesh_arrays(const uint8_t* data, size_t size);
+
+// read_mesh on the bytes written to a temporary file; the first byte picks
+// the extension (.obj, .off, .ply, .stl): OpenMesh's parsers, then ours.
+int mesh_file(const uint8_t* data, size_t size);
+
+// The camera and light parsers; the first byte picks one: 0 parse_camera_json,
+// 1 parse_camera (the --camera text), 2 parse_light, 3 parse_camera_path.
+int camera(const uint8_t* data, size_t size);
+
+// Images we read: the bytes written to a temporary file, the first byte
+// picks the extension (.png, .exr, .ppm, .tga) and the second the reader
+// (even: read_texture of meshes, odd: read_image of `svo compare`).
+int texture(const uint8_t* data, size_t size);
+
+// The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
+// u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
+// positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
+// texture indices (i32). Short input is zero-padded.
+struct MeshSeed {
+  std::vector<double> positions;  // 3 per vertex
+  std::vector<int32_t> corners;   // 3 per triangle
+  bool colours = false, uv = false, texture = false;
+};
+std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
+
+// Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
+// mesh_arrays, mesh_file, camera, texture), made by the library's own
+// writers. Returns the number of files written.
+int write_seeds(const std::filesystem::path& dir);
+
+std::vector<std::string> target_names();
+int run_target(const std::string& name, const uint8_t* data, size_t size);
+
+}  // namespace svo::fuzz

@@ -1,0 +1,183 @@
+// Seed corpora for the fuzz targets, made by the library's own writers.
+#include <OpenImageIO/imageio.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "fuzz_targets.h"
+#include "octree/test_trees.h"
+#include "svo/octree/svo_file.h"
+#include "svo/render/camera.h"
+#include "svo/render/camera_path.h"
+
+namespace svo::fuzz {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+void put(const fs::path& file, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out) throw std::runtime_error(file.string() + ": cannot write seed");
+}
+
+std::vector<uint8_t> with_prefix(std::vector<uint8_t> prefix, const std::string& text) {
+  prefix.insert(prefix.end(), text.begin(), text.end());
+  return prefix;
+}
+
+std::vector<uint8_t> file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+const double kCorners[8][3] = {{-.5, -.5, -.5}, {.5, -.5, -.5}, {.5, .5, -.5}, {-.5, .5, -.5},
+                               {-.5, -.5, .5},  {.5, -.5, .5},  {.5, .5, .5},  {-.5, .5, .5}};
+const int kTriangles[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                               {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+
+std::string cube_text(const std::string& format) {
+  std::ostringstream s;
+  if (format == "off") {
+    s << "OFF\n8 12 0\n";
+    for (auto& c : kCorners) s << c[0] << " " << c[1] << " " << c[2] << "\n";
+    for (auto& t : kTriangles) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  } else if (format == "obj") {
+    for (auto& c : kCorners) s << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
+    s << "vt 0 0\nvt 1 0\nvt 1 1\n";
+    for (auto& t : kTriangles) s << "f " << t[0] + 1 << "/1 " << t[1] + 1 << "/2 " << t[2] + 1 << "/3\n";
+  } else if (format == "ply") {
+    s << "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 12\n"
+         "property list uchar int vertex_indices\nend_header\n";
+    for (auto& c : kCorners) s << c[0] << " " << c[1] << " " << c[2] << " 200 100 50\n";
+    for (auto& t : kTriangles) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  } else {
+    s << "solid cube\n";
+    for (auto& t : kTriangles) {
+      s << "facet normal 0 0 0\nouter loop\n";
+      for (int k = 0; k < 3; ++k) s << "vertex " << kCorners[t[k]][0] << " " << kCorners[t[k]][1] << " " << kCorners[t[k]][2] << "\n";
+      s << "endloop\nendfacet\n";
+    }
+    s << "endsolid cube\n";
+  }
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed) {
+  std::vector<uint8_t> out;
+  auto add = [&](const auto& v) {
+    uint8_t bytes[sizeof(v)];
+    std::memcpy(bytes, &v, sizeof(v));
+    out.insert(out.end(), bytes, bytes + sizeof(v));
+  };
+  const uint32_t n = uint32_t(seed.positions.size() / 3), m = uint32_t(seed.corners.size() / 3);
+  add(n);
+  add(m);
+  add(uint8_t((seed.colours ? 1 : 0) | (seed.uv ? 2 : 0) | (seed.texture ? 4 | 8 : 0)));
+  for (double p : seed.positions) add(p);
+  if (seed.colours)
+    for (uint32_t i = 0; i < 3 * n; ++i) add(float(i % 7) / 7.0f);
+  for (int32_t c : seed.corners) add(c);
+  if (seed.uv)
+    for (uint32_t i = 0; i < 6 * m; ++i) add(float(i % 5) / 4.0f);
+  if (seed.texture)
+    for (uint32_t i = 0; i < m; ++i) add(int32_t(i % 2 ? 0 : -1));
+  return out;
+}
+
+int write_seeds(const fs::path& dir) {
+  int count = 0;
+  auto target = [&](const std::string& name) {
+    fs::create_directories(dir / name);
+    return dir / name;
+  };
+  // .svo files.
+  {
+    fs::path d = target("svo_load");
+    octree::write_svo((d / "test_tree.svo").string(), octree::testing::make_test_tree(1));
+    octree::write_svo((d / "tiny.svo").string(), octree::testing::make_tiny_tree());
+    put(d / "version1.svo", octree::testing::tiny_version1_file());
+    count += 3;
+  }
+  // Parsed meshes: a closed cube, the same with colours, uv and textures, an open square.
+  {
+    fs::path d = target("mesh_arrays");
+    MeshSeed cube;
+    for (auto& c : kCorners) cube.positions.insert(cube.positions.end(), c, c + 3);
+    for (auto& t : kTriangles) cube.corners.insert(cube.corners.end(), t, t + 3);
+    put(d / "cube", mesh_arrays_encode(cube));
+    MeshSeed rich = cube;
+    rich.colours = rich.uv = rich.texture = true;
+    put(d / "cube_textured", mesh_arrays_encode(rich));
+    MeshSeed square{{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 3}};
+    put(d / "square", mesh_arrays_encode(square));
+    count += 3;
+  }
+  // Mesh files: the first byte picks the extension (.obj, .off, .ply, .stl).
+  {
+    fs::path d = target("mesh_file");
+    const char* formats[] = {"obj", "off", "ply", "stl"};
+    for (uint8_t k = 0; k < 4; ++k) put(d / (std::string("cube_") + formats[k]), with_prefix({k}, cube_text(formats[k])));
+    count += 4;
+  }
+  // Cameras, lights, paths: the first byte picks the parser.
+  {
+    fs::path d = target("camera");
+    render::Camera c;
+    c.eye = {0, 0.5f, 3}, c.target = {0, 0, 0}, c.up = {0, 1, 0}, c.fov_deg = 40;
+    render::save_camera_json((d / "saved.json").string(), c);
+    auto pinhole = file_bytes(d / "saved.json");
+    put(d / "camera_json", with_prefix({0}, std::string(pinhole.begin(), pinhole.end())));
+    fs::remove(d / "saved.json");
+    c.aperture = 0.05f, c.focus = 3;
+    render::save_camera_json((d / "saved.json").string(), c);
+    auto lens = file_bytes(d / "saved.json");
+    put(d / "camera_json_lens", with_prefix({0}, std::string(lens.begin(), lens.end())));
+    fs::remove(d / "saved.json");
+    put(d / "camera_text", with_prefix({1}, "0,0,3,0,0,0,0,1,0,40"));
+    put(d / "light_dir", with_prefix({2}, "dir:0,1,0,3,0.02"));
+    put(d / "light_point", with_prefix({2}, "point:2,2,2,5,0.1"));
+    render::CameraPath path;
+    render::Camera k0 = c, k1 = c;
+    k0.aperture = k1.aperture = 0, k0.focus = k1.focus = 0;
+    k1.eye = {0.1f, 0.1f, 0.4f}, k1.fov_deg = 30;
+    path.keys = {k0, k1};
+    path.frames = 12;
+    put(d / "path", with_prefix({3}, render::camera_path_json(path)));
+    count += 6;
+  }
+  // Images: first byte the extension (.png, .exr, .ppm, .tga), second the reader.
+  {
+    fs::path d = target("texture");
+    const char* extensions[] = {".png", ".exr", ".ppm", ".tga"};
+    for (uint8_t k = 0; k < 4; ++k) {
+      fs::path file = d / (std::string("image") + extensions[k]);
+      const int w = 4, h = 3, channels = 3;
+      std::vector<float> pixels(size_t(w * h * channels));
+      for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = float(i % 11) / 10.0f;
+      auto out = OIIO::ImageOutput::create(file.string());
+      if (!out) throw std::runtime_error(file.string() + ": no OpenImageIO writer");
+      OIIO::ImageSpec spec(w, h, channels, k == 1 ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+      if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
+        throw std::runtime_error(file.string() + ": cannot write seed image");
+      }
+      auto bytes = file_bytes(file);
+      fs::remove(file);
+      for (uint8_t reader = 0; reader < 2; ++reader) {
+        std::vector<uint8_t> seed{k, reader};
+        seed.insert(seed.end(), bytes.begin(), bytes.end());
+        put(d / ("image" + std::to_string(k) + "_" + std::to_string(reader)), seed);
+        ++count;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace svo::fuzz
