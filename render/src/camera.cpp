@@ -36,6 +36,25 @@ std::string vec_text(glm::vec3 v) {
   return s.str();
 }
 
+// Untrusted text as it may appear inside a one-line message: control bytes
+// (a newline among them) as \xNN, at most 80 bytes then "...".
+std::string printable(std::string_view text) {
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < 80; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7f) {
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    } else {
+      out += char(c);
+    }
+  }
+  if (text.size() > 80) out += "...";
+  return out;
+}
+
 // Splits on commas; each piece must be a finite number (spaces around it allowed).
 // Returns the numbers, or throws "<where>: <problem>".
 std::vector<float> parse_numbers(std::string_view text, const std::string& where) {
@@ -51,7 +70,7 @@ std::vector<float> parse_numbers(std::string_view text, const std::string& where
     float v = 0;
     auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
     if (digits.empty() || ec != std::errc() || end != digits.data() + digits.size() || !std::isfinite(v)) {
-      throw std::invalid_argument(where + ": value " + std::to_string(index) + " '" + std::string(piece) +
+      throw std::invalid_argument(where + ": value " + std::to_string(index) + " '" + printable(piece) +
                                   "' is not a finite number");
     }
     out.push_back(v);
@@ -267,6 +286,15 @@ Camera close_view(const octree::Octree& tree, float aspect) {
 
 }  // namespace
 
+std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 origin, glm::vec3 dir) {
+  if (tree.depth_count == 0 || !(tree.size > 0) || !finite(origin) || !finite(dir) || !(glm::length(dir) > 0)) {
+    return std::nullopt;
+  }
+  auto hit = DistanceSampler(tree).march(origin, glm::normalize(dir));
+  if (!hit) return std::nullopt;
+  return hit->point;
+}
+
 std::vector<std::string> view_preset_names() { return {"far", "mid", "close"}; }
 
 Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect) {
@@ -276,7 +304,7 @@ Camera view_preset(const octree::Octree& tree, std::string_view name, float aspe
   if (name == "far") return far_view(tree, aspect);
   if (name == "mid") return mid_view(tree, aspect);
   if (name == "close") return close_view(tree, aspect);
-  throw std::invalid_argument("unknown view '" + std::string(name) + "' (views: far, mid, close)");
+  throw std::invalid_argument("unknown view '" + printable(name) + "' (views: far, mid, close)");
 }
 
 void validate_camera(const Camera& c, const std::string& where) {
@@ -304,7 +332,7 @@ void validate_camera(const Camera& c, const std::string& where) {
 }
 
 Camera parse_camera(std::string_view text) {
-  const std::string where = "--camera '" + std::string(text) + "'";
+  const std::string where = "--camera '" + printable(text) + "'";
   std::vector<float> v = parse_numbers(text, where);
   if (v.size() != 10) {
     throw std::invalid_argument(where + ": expected 10 numbers ex,ey,ez,tx,ty,tz,ux,uy,uz,fov, got " +
@@ -320,11 +348,17 @@ Camera parse_camera(std::string_view text) {
 }
 
 Camera load_camera_json(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open camera file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_camera_json(text.str(), path);
+}
+
+Camera parse_camera_json(std::string_view text, const std::string& path) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     std::string what = e.what();
     if (auto close = what.find("] "); close != std::string::npos) what = what.substr(close + 2);
@@ -380,7 +414,7 @@ void save_camera_json(const std::string& path, const Camera& c) {
 }
 
 Light parse_light(std::string_view text, glm::vec3 scene_centre) {
-  const std::string where = "--light '" + std::string(text) + "'";
+  const std::string where = "--light '" + printable(text) + "'";
   Light light;
   std::string_view rest;
   if (text.starts_with("dir:")) {

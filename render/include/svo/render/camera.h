@@ -5,6 +5,7 @@
 #pragma once
 
 #include <glm/vec3.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,12 @@ std::vector<std::string> view_preset_names();
 //        or, for close, when no ray of the mid view meets the surface.
 Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect = 1.0f);
 
+// The first point along origin + t dir (t >= 0, dir need not be unit) where
+// the finest level's trilinear hbar changes sign from outside to inside,
+// inside the domain cube, found in half-voxel steps and refined by
+// bisection (what the close preset uses); nullopt when the ray meets none.
+std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 origin, glm::vec3 dir);
+
 // Checks a camera as parse_camera and load_camera_json do: finite numbers,
 // eye != target, up not parallel to the view direction, fov in (0, 180)
 // degrees, aperture >= 0 and, with an aperture, focus > 0.
@@ -54,6 +61,9 @@ Camera parse_camera(std::string_view text);
 //        be read or is not JSON; std::invalid_argument "<path>: <what is
 //        wrong>" for a missing key, a wrong type and validate_camera's checks.
 Camera load_camera_json(const std::string& path);
+
+// The same from the file's text; `path` names it in messages.
+Camera parse_camera_json(std::string_view text, const std::string& path);
 
 // Writes `camera` in the form load_camera_json reads, atomically (temporary
 // file in the same directory, fsync, rename).

@@ -1,0 +1,273 @@
+// svo flythrough: a camera path through a .svo file (issue 6), by default
+// the deep zoom from the whole-object view to a surface point; numbered PNG
+// frames, a CSV of per-frame cost and levels, the path used, a strip of
+// frames, and a video when ffmpeg is installed. Every argument, the path
+// file and the outputs are checked before the octree is loaded.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <glm/geometric.hpp>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "commands.h"
+#include "progress.h"
+#include "svo/octree/svo_file.h"
+#include "svo/render/camera_path.h"
+#include "svo/render/image_io.h"
+#include "svo/render/renderer.h"
+#include "svo/render/vk_context.h"
+#include "view_options.h"
+#include "zoom_path.h"
+
+namespace svo::tools {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FlythroughArgs {
+  std::string input;
+  std::string out;
+  PathOptions path;
+  ViewOptions view;
+  std::string mode = "prefiltered";
+  uint32_t repeats = 1;
+  uint32_t strip = 8;
+  std::string video;
+  uint32_t fps = 30;
+  std::string device;
+  bool validate = false;
+  bool json = false;
+};
+
+// One CSV row.
+struct FrameRow {
+  uint32_t frame = 0;
+  double distance = 0, view_width = 0, zoom = 1;
+  double ms = 0, us_per_pixel = 0, us_per_covered_pixel = -1;
+  uint64_t covered = 0;
+  double steps_per_pixel = 0;
+  LevelRange levels;
+  double level_target = 0;
+};
+
+std::string frame_name(uint32_t f) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04u.png", f);
+  return name;
+}
+
+// Single quotes for sh.
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+bool have_ffmpeg() { return std::system("command -v ffmpeg > /dev/null 2>&1") == 0; }
+
+}  // namespace
+
+void add_flythrough_command(CLI::App& app, int& exit_code) {
+  auto* cmd = app.add_subcommand(
+      "flythrough",
+      "Render a camera path through a .svo file: the deep zoom from the whole-object view to a surface point "
+      "(--path deep-zoom, default) or a JSON path of keyframes (--path-file). Writes DIR/frame_NNNN.png, "
+      "DIR/frames.csv (per frame: distance, view width, GPU ms, us per pixel and per covered pixel, levels), "
+      "DIR/path.json (the path used, for --path-file) and DIR/strip.png");
+  auto a = std::make_shared<FlythroughArgs>();
+  cmd->add_option("FILE", a->input, "The .svo file to fly through")->required()->group("Input");
+  cmd->add_option("-o,--out", a->out, "Output directory (created when missing)")->required()->group("Output");
+  add_size_options(*cmd, a->view);
+  cmd->add_option("--strip", a->strip, "Frames in DIR/strip.png, spread over the path (0: no strip)")
+      ->default_val(8)
+      ->check(CLI::Range(0u, 64u))
+      ->group("Output");
+  cmd->add_option("--video", a->video, "Also encode the frames to this video with ffmpeg (H.264 in .mp4)")
+      ->group("Output");
+  cmd->add_option("--fps", a->fps, "Frame rate of --video")->default_val(30)->check(CLI::Range(1u, 240u))->group(
+      "Output");
+  cmd->add_flag("--json", a->json,
+                "Print one JSON object on stdout: frames, ms, us per covered pixel (min, max, ratio), levels, file "
+                "size, ...")
+      ->group("Output");
+  add_path_options(*cmd, a->path, 60);
+  cmd->add_option("--mode", a->mode, "prefiltered (ours), nearest, alpha or mip (see svo render)")
+      ->default_val("prefiltered")
+      ->group("Shading");
+  add_light_options(*cmd, a->view);
+  cmd->add_option("--repeats", a->repeats, "Renders per frame; the median GPU time is reported")
+      ->default_val(1)
+      ->check(CLI::Range(1u, 100u))
+      ->group("Timing");
+  cmd->add_option("--device", a->device, "Vulkan device: index or name substring (see svo devices)")->group("Device");
+  cmd->add_flag("--validate", a->validate, "Enable the Khronos validation layer; any message fails the command")
+      ->group("Device");
+
+  cmd->callback([a, &exit_code] {
+    // --- Everything that can be checked without the octree or a device.
+    std::optional<render::Mode> mode = render::parse_mode(a->mode);
+    if (!mode || *mode == render::Mode::RayMarch) {
+      throw std::invalid_argument("unknown mode '" + a->mode + "' for flythrough (modes: prefiltered, nearest, alpha, mip)");
+    }
+    check_view_options(a->view);
+    std::optional<render::CameraPath> loaded = check_path_options(a->path);
+    if (!a->video.empty()) {
+      if (!have_ffmpeg()) {
+        throw std::runtime_error("--video " + a->video + ": ffmpeg is not installed (not on PATH); encode DIR/frame_%04d.png later");
+      }
+      render::check_writable_output(a->video);
+    }
+    make_output_directory(a->out);
+    const fs::path dir(a->out);
+    render::check_writable_output((dir / "frames.csv").string());
+
+    // --- The octree, the path, the device.
+    octree::Octree tree = octree::load_svo(a->input);
+    const auto file_bytes = fs::file_size(a->input);
+    const float aspect = float(a->view.width) / float(a->view.height);
+    const render::CameraPath path = resolve_path(a->path, loaded, tree, aspect, a->input);
+    const std::vector<render::Camera> cameras = render::path_cameras(path);
+    render::save_camera_path((dir / "path.json").string(), path);
+
+    render::RenderSettings settings;
+    settings.width = a->view.width;
+    settings.height = a->view.height;
+    settings.mode = *mode;
+    settings.shadows = a->view.shadows;
+    settings.lights = make_lights(a->view, tree.origin + glm::vec3(0.5f * tree.size));
+    settings.gbuffer = true;  // the depths give the levels used
+    vk::Context context({a->device, a->validate});
+    render::GpuRenderer renderer(context, tree);
+
+    // --- Frames.
+    ProgressBar bar("flythrough");
+    std::vector<FrameRow> rows;
+    std::vector<render::Frame> strip_frames;
+    const std::vector<uint32_t> strip_at = strip_indices(uint32_t(cameras.size()), a->strip);
+    const double first_width = render::view_width(cameras.front());
+    for (uint32_t f = 0; f < cameras.size(); ++f) {
+      bar.update("frame " + std::to_string(f + 1) + "/" + std::to_string(cameras.size()), double(f) / cameras.size());
+      settings.camera = cameras[f];
+      std::vector<double> times;
+      render::Frame frame;
+      for (uint32_t r = 0; r < a->repeats; ++r) {
+        frame = renderer.render(settings);
+        times.push_back(frame.gpu_ms >= 0 ? frame.gpu_ms : frame.wall_ms);
+      }
+      std::sort(times.begin(), times.end());
+      render::write_colour((dir / frame_name(f)).string(), frame);
+      FrameRow row;
+      row.frame = f;
+      row.distance = glm::length(glm::dvec3(cameras[f].target) - glm::dvec3(cameras[f].eye));
+      row.view_width = render::view_width(cameras[f]);
+      row.zoom = first_width / row.view_width;
+      row.ms = times[times.size() / 2];
+      row.us_per_pixel = row.ms * 1000.0 / double(frame.width * frame.height);
+      row.covered = frame.covered_pixels;
+      if (row.covered > 0) row.us_per_covered_pixel = row.ms * 1000.0 / double(row.covered);
+      row.steps_per_pixel = frame.steps_per_pixel;
+      row.levels = frame_levels(tree, settings, frame);
+      row.level_target = lod_level(tree, settings, row.distance);
+      rows.push_back(row);
+      if (std::find(strip_at.begin(), strip_at.end(), f) != strip_at.end()) {
+        frame.gbuffer.clear();
+        frame.steps.clear();
+        strip_frames.push_back(std::move(frame));
+      }
+    }
+    bar.finish();
+
+    // --- CSV, strip, video, summary.
+    std::ostringstream csv;
+    csv << std::setprecision(9);
+    csv << "frame,distance,view_width,zoom,ms,us_per_pixel,us_per_covered_pixel,covered_pixels,steps_per_pixel,"
+           "level_min,level_max,level_target\n";
+    for (const auto& r : rows) {
+      csv << r.frame << "," << r.distance << "," << r.view_width << "," << r.zoom << "," << r.ms << ","
+          << r.us_per_pixel << ",";
+      if (r.covered > 0) csv << r.us_per_covered_pixel;
+      csv << "," << r.covered << "," << r.steps_per_pixel << ",";
+      if (r.levels.any) csv << r.levels.min << "," << r.levels.max;
+      else csv << ",";
+      csv << "," << r.level_target << "\n";
+    }
+    write_text_atomically((dir / "frames.csv").string(), csv.str());
+    if (!strip_frames.empty()) {
+      std::vector<const render::Frame*> row;
+      for (const auto& f : strip_frames) row.push_back(&f);
+      render::write_colour((dir / "strip.png").string(), make_strip({row}, 256));
+    }
+    if (!a->video.empty()) {
+      const fs::path video(a->video);
+      const std::string tmp = (video.parent_path() / ("." + video.stem().string() + ".tmp" + video.extension().string())).string();
+      const std::string command = "ffmpeg -y -loglevel error -framerate " + std::to_string(a->fps) + " -i " +
+                                  quoted((dir / "frame_%04d.png").string()) + " -frames:v " +
+                                  std::to_string(cameras.size()) + " -c:v libx264 -pix_fmt yuv420p " + quoted(tmp);
+      if (std::system(command.c_str()) != 0) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw std::runtime_error("--video " + a->video + ": ffmpeg failed: " + command);
+      }
+      fs::rename(tmp, video);
+    }
+
+    double lo = 0, hi = 0, total_ms = 0;
+    bool any = false;
+    for (const auto& r : rows) {
+      total_ms += r.ms;
+      if (r.covered == 0) continue;
+      lo = any ? std::min(lo, r.us_per_covered_pixel) : r.us_per_covered_pixel;
+      hi = any ? std::max(hi, r.us_per_covered_pixel) : r.us_per_covered_pixel;
+      any = true;
+    }
+    const std::vector<std::string> messages = context.validation_messages();
+    if (a->json) {
+      nlohmann::json out{{"file", a->input},
+                         {"file_bytes", file_bytes},
+                         {"out", a->out},
+                         {"frames", rows.size()},
+                         {"width", settings.width},
+                         {"height", settings.height},
+                         {"mode", render::mode_name(*mode)},
+                         {"path", a->path.path_file.empty() ? a->path.path : "file"},
+                         {"zoom", first_width / render::view_width(cameras.back())},
+                         {"total_ms", total_ms},
+                         {"us_per_covered_pixel_min", any ? nlohmann::json(lo) : nlohmann::json(nullptr)},
+                         {"us_per_covered_pixel_max", any ? nlohmann::json(hi) : nlohmann::json(nullptr)},
+                         {"us_per_covered_pixel_ratio", any && lo > 0 ? nlohmann::json(hi / lo) : nlohmann::json(nullptr)},
+                         {"finest_level", tree.depth_count - 1},
+                         {"level_target_last", rows.back().level_target},
+                         {"device", context.info().name},
+                         {"video", a->video.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->video)},
+                         {"validation_messages", messages}};
+      std::cout << out.dump() << "\n";
+    } else {
+      std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->out << ": " << rows.size()
+                << " frames " << settings.width << "x" << settings.height << " " << render::mode_name(*mode)
+                << ", zoom " << first_width / render::view_width(cameras.back()) << ", " << total_ms
+                << " ms GPU in all";
+      if (any) {
+        std::cout << std::setprecision(3) << ", us per covered pixel " << lo << " to " << hi << " (ratio "
+                  << std::setprecision(2) << (lo > 0 ? hi / lo : 0.0) << ")";
+      }
+      std::cout << ", " << context.info().name << "\n";
+    }
+    if (!messages.empty()) {
+      for (const auto& m : messages) std::cerr << "validation: " << m << "\n";
+      throw std::runtime_error("flythrough: " + std::to_string(messages.size()) +
+                               " Vulkan validation message(s) (above); the frames were written");
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools
