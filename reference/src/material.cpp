@@ -31,6 +31,15 @@ render::RenderSettings material_view(float degrees, uint32_t height, const Mater
 }
 
 std::vector<MaterialPoint> material_curve(const voxelizer::HeightfieldScene& field, const MaterialOptions& o) {
+  MaterialStatistics s;
+  s.slope_variance = field.slope_variance();
+  s.abar = field.abar();
+  s.a_s = field.a_s();
+  return material_curve(field, s, o);
+}
+
+std::vector<MaterialPoint> material_curve(const voxelizer::AnalyticScene& field, const MaterialStatistics& stats,
+                                          const MaterialOptions& o) {
   for (float d : o.degrees) {
     if (!(d >= 0 && d < 90)) throw std::invalid_argument("material: angle " + std::to_string(d) + " outside [0, 90)");
   }
@@ -38,7 +47,7 @@ std::vector<MaterialPoint> material_curve(const voxelizer::HeightfieldScene& fie
     throw std::invalid_argument("material: a patch of " + std::to_string(o.patch) + " does not fit the field [-1, 1]^2");
   }
   auto geometry = scene_geometry(field);
-  const glm::vec2 sigma2 = field.slope_variance();
+  const glm::vec2 sigma2 = stats.slope_variance;
   std::vector<MaterialPoint> points;
   for (size_t i = 0; i < o.degrees.size(); ++i) {
     MaterialPoint p;
@@ -56,8 +65,8 @@ std::vector<MaterialPoint> material_curve(const voxelizer::HeightfieldScene& fie
     const float t = glm::radians(p.degrees);
     const glm::vec3 v(std::sin(t), 0.0f, std::cos(t));  // towards the eye, in the field's frame (normal +z)
     const float lambda = svo::math::svo_smith_lambda_dir(v, sigma2);
-    p.eq17 = svo::math::svo_attribute_vl3(field.abar(), field.a_s(), lambda);
-    p.mip = field.abar();
+    p.eq17 = svo::math::svo_attribute_vl3(stats.abar, stats.a_s, lambda);
+    p.mip = stats.abar;
     points.push_back(p);
     if (o.progress) o.progress(double(i + 1) / double(o.degrees.size()));
   }

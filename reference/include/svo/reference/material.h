@@ -43,4 +43,17 @@ render::RenderSettings material_view(float degrees, uint32_t height, const Mater
 // angle outside [0, 90) or a patch larger than the field.
 std::vector<MaterialPoint> material_curve(const voxelizer::HeightfieldScene& field, const MaterialOptions& options);
 
+// What Eq. 17 and MIP need of a surface: its slope variances along x and y
+// and its colour's abar and a_s (DESIGN section 6).
+struct MaterialStatistics {
+  glm::vec2 slope_variance{0};
+  glm::vec3 abar{0}, a_s{0};
+};
+
+// The same curves for any surface around the plane z = 0 over [-1, 1]^2 with
+// mean normal +z (a height map, HeightmapScene), Eq. 17 and MIP from
+// `statistics` (measured over the patch the images span). Same throws.
+std::vector<MaterialPoint> material_curve(const voxelizer::AnalyticScene& surface, const MaterialStatistics& statistics,
+                                          const MaterialOptions& options);
+
 }  // namespace svo::reference

@@ -1,0 +1,98 @@
+// Small helpers of the bench commands (cmd_bench.cpp, cmd_bench_zoom.cpp,
+// cmd_bench_figures.cpp, cmd_bench_heightmap.cpp): number formatting, frames
+// as images, strips of frames side by side, gnuplot.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "svo/reference/material.h"
+#include "svo/render/image_io.h"
+#include "svo/render/renderer.h"
+
+namespace svo::tools::bench {
+
+inline std::string fmt(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+inline std::string sci(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+inline render::Image as_image(const render::Frame& f) {
+  render::Image im;
+  im.width = int(f.width);
+  im.height = int(f.height);
+  im.channels = {"R", "G", "B", "A"};
+  im.pixels.reserve(f.colour.size() * 4);
+  for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
+  return im;
+}
+
+// Rows of frames side by side, `gap` pixels of dark grey between them,
+// colours scaled by `exposure`, each pixel repeated `zoom` x `zoom` times,
+// alpha 1 (the frames' backgrounds are black). Frames of a row may differ in
+// size; each cell takes the largest.
+inline render::Frame strip(const std::vector<std::vector<const render::Frame*>>& rows, uint32_t zoom = 1,
+                           float exposure = 1.0f, uint32_t gap = 4) {
+  zoom = std::max(zoom, 1u);
+  uint32_t cell_w = 0, cell_h = 0, cols = 0;
+  for (const auto& r : rows) {
+    cols = std::max(cols, uint32_t(r.size()));
+    for (const auto* f : r) cell_w = std::max(cell_w, f->width * zoom), cell_h = std::max(cell_h, f->height * zoom);
+  }
+  render::Frame s;
+  s.width = cols * cell_w + (cols + 1) * gap;
+  s.height = uint32_t(rows.size()) * cell_h + uint32_t(rows.size() + 1) * gap;
+  s.colour.assign(size_t(s.width) * s.height, glm::vec4(0.25f, 0.25f, 0.25f, 1.0f));
+  for (size_t r = 0; r < rows.size(); ++r) {
+    for (size_t c = 0; c < rows[r].size(); ++c) {
+      const render::Frame& f = *rows[r][c];
+      uint32_t x0 = gap + uint32_t(c) * (cell_w + gap), y0 = gap + uint32_t(r) * (cell_h + gap);
+      for (uint32_t y = 0; y < cell_h; ++y) {
+        for (uint32_t x = 0; x < cell_w; ++x) {
+          glm::vec4 v(0, 0, 0, 1);
+          const uint32_t fx = x / zoom, fy = y / zoom;
+          if (fx < f.width && fy < f.height)
+            v = glm::vec4(glm::vec3(f.colour[size_t(fy) * f.width + fx]) * exposure, 1.0f);
+          s.colour[size_t(y0 + y) * s.width + x0 + x] = v;
+        }
+      }
+    }
+  }
+  return s;
+}
+
+// The engine's colour in the material bench (paper Fig. 9): the mean over
+// the covered pixels of one prefiltered cone per pixel, the view 4 pixels
+// high, at `degrees`.
+inline glm::vec3 engine_material_colour(render::GpuRenderer& gpu, float degrees,
+                                        const reference::MaterialOptions& options) {
+  render::Frame f = gpu.render(reference::material_view(degrees, 4, options));
+  glm::dvec3 sum(0);
+  double covered = 0;
+  for (const auto& c : f.colour) sum += glm::dvec3(c.r, c.g, c.b), covered += c.a;
+  return covered > 0 ? glm::vec3(sum / covered) : glm::vec3(0);
+}
+
+// Runs gnuplot on `script`; says why on stderr when there is no plot.
+inline void run_gnuplot(const std::filesystem::path& script) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    std::cerr << "svo bench: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
+  } else if (std::system(("gnuplot '" + script.string() + "'").c_str()) != 0) {
+    std::cerr << "svo bench: gnuplot failed on " << script.string() << "\n";
+  }
+}
+
+}  // namespace svo::tools::bench
