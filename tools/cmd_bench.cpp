@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
+#include "cmd_bench_figures.h"
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
@@ -35,6 +37,10 @@ namespace svo::tools {
 namespace {
 
 namespace fs = std::filesystem;
+using bench::as_image;
+using bench::fmt;
+using bench::run_gnuplot;
+using bench::sci;
 
 struct SpeedErrorArgs {
   SourceOptions source;
@@ -63,16 +69,6 @@ struct Row {
   double relmse = 0, rmse = 0, psnr = 0, coverage_error = 0, coverage_error_silhouette = 0;
 };
 
-render::Image as_image(const render::Frame& f) {
-  render::Image im;
-  im.width = int(f.width);
-  im.height = int(f.height);
-  im.channels = {"R", "G", "B", "A"};
-  im.pixels.reserve(f.colour.size() * 4);
-  for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
-  return im;
-}
-
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> parts;
   std::stringstream in(s);
@@ -91,27 +87,6 @@ std::optional<double> time_at_error(const std::vector<Row>& march, double target
     return std::exp(std::log(march[i].ms) + f * (std::log(march[i + 1].ms) - std::log(march[i].ms)));
   }
   return std::nullopt;
-}
-
-std::string fmt(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-// Runs gnuplot on `script`; says why on stderr when there is no plot.
-void run_gnuplot(const fs::path& script) {
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    std::cerr << "svo bench: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
-  } else if (std::system(("gnuplot '" + script.string() + "'").c_str()) != 0) {
-    std::cerr << "svo bench: gnuplot failed on " << script.string() << "\n";
-  }
 }
 
 void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
@@ -332,12 +307,7 @@ void run_material(const MaterialArgs& a) {
   auto rgb = [](glm::vec3 c) { return fmt(c.x, 4) + " " + fmt(c.y, 4) + " " + fmt(c.z, 4); };
   for (size_t i = 0; i < curve.size(); ++i) {
     const auto& p = curve[i];
-    render::RenderSettings s = reference::material_view(p.degrees, 4, o);
-    render::Frame f = gpu.render(s);
-    glm::dvec3 sum(0);
-    double covered = 0;
-    for (const auto& c : f.colour) sum += glm::dvec3(c.r, c.g, c.b), covered += c.a;
-    glm::vec3 engine = covered > 0 ? glm::vec3(sum / covered) : glm::vec3(0);
+    glm::vec3 engine = bench::engine_material_colour(gpu, p.degrees, o);
     bar.update("engine", 0.9 + 0.1 * double(i + 1) / double(curve.size()));
     csv << p.degrees;
     for (glm::vec3 c : {p.truth, p.eq17, p.mip, engine}) csv << "," << c.x << "," << c.y << "," << c.z;
@@ -406,7 +376,9 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       "material",
       "Paper Fig. 9: colour against view angle (0-85 degrees) on a Gaussian height field coloured by height, lights "
       "off: ground truth (svo reference averaged over the field), Eq. 17 from the field's statistics, MIP, and the "
-      "engine's prefiltered cone; writes table.md, material.csv and material.png (gnuplot) to --out");
+      "engine's prefiltered cone; with --heightmap IMAGE the same on a non-Gaussian height map from an image, with "
+      "Eq. 17 from its measured statistics (also material.json and heightmap.png); writes table.md, material.csv and "
+      "material.png (gnuplot) to --out");
   mat->add_option("--sigma-h", m->sigma_h, "Height deviation of the field (the built-in heightfield scene uses 0.02)")
       ->default_val(0.0075f)
       ->check(CLI::Range(0.001f, 0.05f));
@@ -417,10 +389,20 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   mat->add_option("--spp", m->spp, "Ground-truth samples per pixel")->default_val(4)->check(CLI::Range(1u, 4096u));
   mat->add_option("--device", m->device, "Vulkan device: index or name substring (see svo devices)");
   mat->add_option("-o,--out", m->out, "Output directory (created)")->default_val("bench-material");
-  mat->callback([m, &exit_code] {
-    run_material(*m);
+  auto hm = std::make_shared<HeightmapMaterialArgs>();
+  add_heightmap_material_options(*mat, *hm);
+  mat->callback([m, hm, &exit_code] {
+    if (hm->heightmap.empty()) {
+      run_material(*m);
+    } else {
+      run_heightmap_material(*hm, m->sigma_h, m->resolution, m->size, m->spp, m->device, m->out);
+    }
     exit_code = 0;
   });
+
+  add_bench_figure_commands(*bench, exit_code);
+
+  add_bench_zoom_command(*bench, exit_code);
 }
 
 }  // namespace svo::tools

@@ -8,9 +8,12 @@
 namespace svo::tools {
 
 void add_bench_command(CLI::App& app, int& exit_code);
+// svo bench zoom, registered on the bench subcommand by add_bench_command.
+void add_bench_zoom_command(CLI::App& bench, int& exit_code);
 void add_compare_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
 void add_devices_command(CLI::App& app, int& exit_code);
+void add_flythrough_command(CLI::App& app, int& exit_code);
 void add_info_command(CLI::App& app, int& exit_code);
 void add_reference_command(CLI::App& app, int& exit_code);
 void add_render_command(CLI::App& app, int& exit_code);

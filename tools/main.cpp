@@ -1,6 +1,7 @@
 // svo: pre-filtered sparse voxel octree engine, command line.
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "commands.h"
 
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   svo::tools::add_compare_command(app, exit_code);
   svo::tools::add_demo_command(app, exit_code);
   svo::tools::add_devices_command(app, exit_code);
+  svo::tools::add_flythrough_command(app, exit_code);
   svo::tools::add_info_command(app, exit_code);
   svo::tools::add_reference_command(app, exit_code);
   svo::tools::add_render_command(app, exit_code);
@@ -34,6 +36,9 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& e) {
     std::cerr << "svo: " << e.what() << " (see svo --help)\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "svo: out of host memory (an allocation failed); try a smaller --resolution or image size\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "svo: " << e.what() << "\n";
