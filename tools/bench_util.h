@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -84,6 +85,28 @@ inline glm::vec3 engine_material_colour(render::GpuRenderer& gpu, float degrees,
   double covered = 0;
   for (const auto& c : f.colour) sum += glm::dvec3(c.r, c.g, c.b), covered += c.a;
   return covered > 0 ? glm::vec3(sum / covered) : glm::vec3(0);
+}
+
+// Writes DIR/material.gp, the Fig. 9 plot of DIR/material.csv (degrees, then
+// R, G, B of ground truth, Eq. 17, MIP and the engine) into DIR/material.png,
+// with `title` (may be empty).
+inline void write_material_plot(const std::filesystem::path& dir, const std::string& title) {
+  std::ofstream gp(dir / "material.gp");
+  gp << "set terminal pngcairo size 900,500 font 'sans,10'\nset output '" << (dir / "material.png").string()
+     << "'\nset datafile separator ','\nset key top left\nset grid\nset xlabel 'view angle (degrees)'\n"
+     << "set ylabel 'colour'\n";
+  if (!title.empty()) gp << "set title '" << title << "'\n";
+  gp << "f='" << (dir / "material.csv").string() << "'\nplot ";
+  const char* names[] = {"R", "G", "B"};
+  const char* colours[] = {"red", "dark-green", "blue"};
+  for (int c = 0; c < 3; ++c) {
+    gp << (c ? ", " : "") << "f every ::1 using 1:" << 2 + c << " with lines lw 2 lc '" << colours[c]
+       << "' title 'ground truth " << names[c] << "', f every ::1 using 1:" << 5 + c << " with points pt 7 lc '"
+       << colours[c] << "' title 'Eq. 17', f every ::1 using 1:" << 8 + c << " with lines dt 2 lc '" << colours[c]
+       << "' title 'MIP', f every ::1 using 1:" << 11 + c << " with points pt 2 lc '" << colours[c]
+       << "' title 'engine (one cone)'";
+  }
+  gp << "\n";
 }
 
 // Runs gnuplot on `script`; says why on stderr when there is no plot.

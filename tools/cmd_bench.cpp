@@ -319,22 +319,7 @@ void run_material(const MaterialArgs& a) {
   bar.finish();
   csv.close();
   std::ofstream(dir / "table.md") << md.str();
-  {
-    std::ofstream gp(dir / "material.gp");
-    gp << "set terminal pngcairo size 900,500 font 'sans,10'\nset output '" << (dir / "material.png").string()
-       << "'\nset datafile separator ','\nset key top left\nset grid\nset xlabel 'view angle (degrees)'\n"
-       << "set ylabel 'colour'\nf='" << (dir / "material.csv").string() << "'\nplot ";
-    const char* names[] = {"R", "G", "B"};
-    const char* colours[] = {"red", "dark-green", "blue"};
-    for (int c = 0; c < 3; ++c) {
-      gp << (c ? ", " : "") << "f every ::1 using 1:" << 2 + c << " with lines lw 2 lc '" << colours[c]
-         << "' title 'ground truth " << names[c] << "', f every ::1 using 1:" << 5 + c << " with points pt 7 lc '"
-         << colours[c] << "' title 'Eq. 17', f every ::1 using 1:" << 8 + c << " with lines dt 2 lc '" << colours[c]
-         << "' title 'MIP', f every ::1 using 1:" << 11 + c << " with points pt 2 lc '" << colours[c]
-         << "' title 'engine (one cone)'";
-    }
-    gp << "\n";
-  }
+  bench::write_material_plot(dir, "");
   run_gnuplot(dir / "material.gp");
   std::cout << md.str();
 }
