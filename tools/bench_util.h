@@ -87,6 +87,27 @@ inline glm::vec3 engine_material_colour(render::GpuRenderer& gpu, float degrees,
   return covered > 0 ? glm::vec3(sum / covered) : glm::vec3(0);
 }
 
+// Largest relative per-channel difference of x from t.
+inline double relative_error(glm::vec3 x, glm::vec3 t) {
+  glm::vec3 e = glm::abs(x - t) / glm::max(t, glm::vec3(1e-6f));
+  return std::max(e.x, std::max(e.y, e.z));
+}
+
+// One angle of the material bench: a CSV row (degrees, then R, G, B of the
+// ground truth, Eq. 17, MIP and the engine) and a Markdown row with the
+// relative errors.
+inline void write_material_row(std::ostream& csv, std::ostream& md, const reference::MaterialPoint& p,
+                               glm::vec3 engine) {
+  csv << p.degrees;
+  for (glm::vec3 c : {p.truth, p.eq17, p.mip, engine}) csv << "," << c.x << "," << c.y << "," << c.z;
+  csv << "\n";
+  auto rgb = [](glm::vec3 c) { return fmt(c.x, 4) + " " + fmt(c.y, 4) + " " + fmt(c.z, 4); };
+  md << "| " << fmt(p.degrees, 0) << " | " << rgb(p.truth) << " | " << rgb(p.eq17) << " | "
+     << fmt(100 * relative_error(p.eq17, p.truth), 2) << "% | " << rgb(p.mip) << " | "
+     << fmt(100 * relative_error(p.mip, p.truth), 2) << "% | " << rgb(engine) << " | "
+     << fmt(100 * relative_error(engine, p.truth), 2) << "% |\n";
+}
+
 // Writes DIR/material.gp, the Fig. 9 plot of DIR/material.csv (degrees, then
 // R, G, B of ground truth, Eq. 17, MIP and the engine) into DIR/material.png,
 // with `title` (may be empty).

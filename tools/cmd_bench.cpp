@@ -300,21 +300,10 @@ void run_material(const MaterialArgs& a) {
      << sci(field.slope_variance().y) << "; ground truth " << a.size << " pixels high, " << a.spp
      << " spp; engine: octree " << a.resolution << "^3, one prefiltered cone per pixel, 4 pixels high.\n\n"
      << "| degrees | ground truth (R G B) | Eq. 17 | error | MIP | error | engine | error |\n|---|---|---|---|---|---|---|---|\n";
-  auto rel = [](glm::vec3 x, glm::vec3 t) {
-    glm::vec3 e = glm::abs(x - t) / glm::max(t, glm::vec3(1e-6f));
-    return std::max(e.x, std::max(e.y, e.z));
-  };
-  auto rgb = [](glm::vec3 c) { return fmt(c.x, 4) + " " + fmt(c.y, 4) + " " + fmt(c.z, 4); };
   for (size_t i = 0; i < curve.size(); ++i) {
-    const auto& p = curve[i];
-    glm::vec3 engine = bench::engine_material_colour(gpu, p.degrees, o);
+    glm::vec3 engine = bench::engine_material_colour(gpu, curve[i].degrees, o);
     bar.update("engine", 0.9 + 0.1 * double(i + 1) / double(curve.size()));
-    csv << p.degrees;
-    for (glm::vec3 c : {p.truth, p.eq17, p.mip, engine}) csv << "," << c.x << "," << c.y << "," << c.z;
-    csv << "\n";
-    md << "| " << fmt(p.degrees, 0) << " | " << rgb(p.truth) << " | " << rgb(p.eq17) << " | "
-       << fmt(100 * rel(p.eq17, p.truth), 2) << "% | " << rgb(p.mip) << " | " << fmt(100 * rel(p.mip, p.truth), 2)
-       << "% | " << rgb(engine) << " | " << fmt(100 * rel(engine, p.truth), 2) << "% |\n";
+    bench::write_material_row(csv, md, curve[i], engine);
   }
   bar.finish();
   csv.close();

@@ -93,11 +93,7 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
   vk::Context context(co);
   render::GpuRenderer gpu(context, tree);
 
-  auto rel = [](glm::vec3 x, glm::vec3 t) {
-    glm::vec3 e = glm::abs(x - t) / glm::max(t, glm::vec3(1e-6f));
-    return std::max(e.x, std::max(e.y, e.z));
-  };
-  auto rgb = [](glm::vec3 c) { return fmt(c.x, 4) + " " + fmt(c.y, 4) + " " + fmt(c.z, 4); };
+  const auto rel = bench::relative_error;
   std::ofstream csv(dir / "material.csv");
   csv << "degrees,truth_r,truth_g,truth_b,eq17_r,eq17_g,eq17_b,mip_r,mip_g,mip_b,engine_r,engine_g,engine_b\n";
   std::ostringstream md;
@@ -116,15 +112,10 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
     const auto& p = curve[i];
     glm::vec3 engine = bench::engine_material_colour(gpu, p.degrees, o);
     bar.update("engine", 0.9 + 0.1 * double(i + 1) / double(curve.size()));
-    csv << p.degrees;
-    for (glm::vec3 c : {p.truth, p.eq17, p.mip, engine}) csv << "," << c.x << "," << c.y << "," << c.z;
-    csv << "\n";
+    bench::write_material_row(csv, md, p, engine);
     const double e17 = rel(p.eq17, p.truth), emip = rel(p.mip, p.truth), eeng = rel(engine, p.truth);
     worst17 = std::max(worst17, e17), worst_mip = std::max(worst_mip, emip),
     worst_engine = std::max(worst_engine, eeng);
-    md << "| " << fmt(p.degrees, 0) << " | " << rgb(p.truth) << " | " << rgb(p.eq17) << " | " << fmt(100 * e17, 2)
-       << "% | " << rgb(p.mip) << " | " << fmt(100 * emip, 2) << "% | " << rgb(engine) << " | " << fmt(100 * eeng, 2)
-       << "% |\n";
     auto arr = [](glm::vec3 c) { return nlohmann::json::array({c.x, c.y, c.z}); };
     rows.push_back({{"degrees", p.degrees},
                     {"truth", arr(p.truth)},
