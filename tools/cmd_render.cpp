@@ -27,6 +27,7 @@ struct RenderArgs {
   std::string input;
   std::string output;
   std::string gbuffer;
+  std::string steps;
   std::string save_camera;
   ViewOptions view;
   std::string mode = "prefiltered";
@@ -60,6 +61,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--gbuffer", a->gbuffer,
                   "Also write the G-buffer as one float .exr: depth, P.x/y/z, N.x/y/z, slope_variance, abar.R/G/B, "
                   "coverage")
+      ->group("Output");
+  cmd->add_option("--steps", a->steps,
+                  "Also write the cone elements visited per pixel (shadow cones included) as a one-channel float "
+                  ".exr: where the frame's time goes")
       ->group("Output");
   cmd->add_option("--save-camera", a->save_camera, "Also write the camera used as JSON (the form of --camera-file)")
       ->group("Output");
@@ -109,18 +114,20 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Camera> camera = check_view_options(a->view);
     render::image_format(a->output);
     render::check_writable_output(a->output);
-    if (!a->gbuffer.empty()) {
-      if (render::image_format(a->gbuffer) != render::ImageFormat::Exr) {
-        throw std::invalid_argument(a->gbuffer + ": the G-buffer is written as OpenEXR only (use .exr)");
+    for (const auto& [path, what] : {std::pair{a->gbuffer, "the G-buffer"}, std::pair{a->steps, "the steps image"}}) {
+      if (path.empty()) continue;
+      if (render::image_format(path) != render::ImageFormat::Exr) {
+        throw std::invalid_argument(path + ": " + what + " is written as OpenEXR only (use .exr)");
       }
-      render::check_writable_output(a->gbuffer);
+      render::check_writable_output(path);
     }
     if (!a->save_camera.empty()) render::check_writable_output(a->save_camera);
     // The frame on the host: colour (16 bytes a pixel), steps (4), the
-    // file's copy (up to 16), the G-buffer and its file's copy (2 x 48).
+    // file's copy (up to 16), the G-buffer and its file's copy (2 x 48), the
+    // steps image's copy (4).
     {
       const double pixels = double(a->view.width) * double(a->view.height);
-      const double mib = pixels * (16 + 4 + 16 + (a->gbuffer.empty() ? 0 : 96)) / (1024.0 * 1024.0);
+      const double mib = pixels * (16 + 4 + 16 + (a->gbuffer.empty() ? 0 : 96) + (a->steps.empty() ? 0 : 4)) / (1024.0 * 1024.0);
       const double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
       if (limit > 0 && mib > limit) {
         throw std::runtime_error("a " + std::to_string(a->view.width) + "x" + std::to_string(a->view.height) +
@@ -166,6 +173,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     // --- Outputs (written even when validation complained, so that the frame can be inspected).
     render::write_colour(a->output, frame);
     if (!a->gbuffer.empty()) render::write_gbuffer(a->gbuffer, frame);
+    if (!a->steps.empty()) render::write_steps(a->steps, frame);
     if (!a->save_camera.empty()) render::save_camera_json(a->save_camera, settings.camera);
 
     const bool gpu_timed = frame.gpu_ms >= 0;

@@ -143,6 +143,20 @@ void write_gbuffer(const std::string& path, const Frame& frame) {
   write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
 }
 
+void write_steps(const std::string& path, const Frame& frame) {
+  if (image_format(path) != ImageFormat::Exr) {
+    throw ImageError(path + ": the steps image is written as OpenEXR only (use .exr)");
+  }
+  check_size(path, frame, frame.steps.size(), "steps image");
+  std::vector<float> data(frame.steps.begin(), frame.steps.end());
+  OIIO::ImageSpec spec(int(frame.width), int(frame.height), 1, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"steps"};
+  spec.alpha_channel = -1;
+  spec.attribute("compression", "zip");
+  spec.attribute("Software", "svo");
+  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
+}
+
 int Image::channel(const std::string& name) const {
   auto it = std::find(channels.begin(), channels.end(), name);
   return it == channels.end() ? -1 : int(it - channels.begin());

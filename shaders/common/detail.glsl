@@ -12,9 +12,9 @@
 // SVO_NOISE_VARIANCE, per-axis derivative variance SVO_NOISE_SLOPE_VARIANCE,
 // both over a uniform p; tests/numerics/detail_test.cpp measures them).
 //
-// Explicit weight e_k(r): 1 when lambda_k >= 8 r, 0 when lambda_k <= 4 r, a
-// smoothstep in log2(lambda_k / 4r) between. An octave that is a fraction e
-// explicit draws e a_k n and keeps (1 - e^2) a_k^2 of its variances as
+// Explicit weight e_k(r): 1 when lambda_k >= 16 r, 0 when lambda_k <= 8 r
+// (SVO_DETAIL_DRAWN_FROM radii), a smoothstep in log2(lambda_k / 8r)
+// between. An octave that is a fraction e explicit draws e a_k n and keeps (1 - e^2) a_k^2 of its variances as
 // statistics, so that explicit and statistical parts always add up to the
 // octave's own variance: the appearance cannot jump where an octave changes
 // from one to the other.
@@ -29,6 +29,14 @@ SVO_CONST float SVO_NOISE_SLOPE_VARIANCE = 0.2486f;
 // Bound on |n| and on |grad n|, for Lipschitz bounds and margins.
 SVO_CONST float SVO_NOISE_MAX = 1.0f;
 SVO_CONST float SVO_NOISE_MAX_GRADIENT = 3.5f;
+// An octave is drawn (in part) for a footprint of radius r once its
+// wavelength exceeds this many radii, and whole from twice that. The
+// renderer shades one point per cone element, where the ground truth
+// averages the footprint: an octave only 4 radii long drawn that way gave
+// its glints too sharply and made a deep zoom change 7-34% more from frame
+// to frame than the ground truth (docs/RESULTS.md, "Deep zoom"); from 8
+// radii the excess is a third smaller and the elements twice as long.
+SVO_CONST float SVO_DETAIL_DRAWN_FROM = 8.0f;
 
 struct SvoDetail {
   uint octaves;     // 0: no detail
@@ -105,7 +113,7 @@ SVO_FN float svo_detail_amplitude(SvoDetail d, uint k) { return d.amplitude * po
 // footprint of radius r (r <= 0: all of it).
 SVO_FN float svo_detail_weight(float lambda, float r) {
   if (!(r > 0.0f)) return 1.0f;
-  float x = clamp(log2(lambda / (4.0f * r)), 0.0f, 1.0f);
+  float x = clamp(log2(lambda / (SVO_DETAIL_DRAWN_FROM * r)), 0.0f, 1.0f);
   return x * x * (3.0f - 2.0f * x);
 }
 
@@ -137,7 +145,7 @@ SVO_FN vec4 svo_detail_displacement(SvoDetail d, vec3 p, float r, float r_stored
   for (uint k = 0u; k < d.octaves; ++k) {
     float lambda = svo_detail_wavelength(d, k);
     float w = svo_detail_weight(lambda, r) - svo_detail_weight(lambda, r_stored);
-    if (lambda <= 4.0f * r) break;  // this octave and all finer ones: statistics only
+    if (lambda <= SVO_DETAIL_DRAWN_FROM * r) break;  // this octave and all finer ones: statistics only
     if (!(w > 0.0f)) continue;
     sum += w * svo_detail_octave(d, k, p);
   }
@@ -162,7 +170,7 @@ SVO_FN vec2 svo_detail_moved_variance(SvoDetail d, float r, float r_stored) {
 
 // Bounds on what is drawn at footprint r beyond footprint r_stored:
 // (largest |displacement|, largest |gradient|), over whole octaves (those
-// with lambda_k > 4 r and not whole at r_stored), without a loop: octave
+// with lambda_k > 8 r and not whole at r_stored), without a loop: octave
 // k's amplitude is amplitude gain^k and its slope (amplitude / wavelength)
 // (2 gain)^k.
 SVO_FN float svo_detail_series(float q, float k0, float k1) {
@@ -171,16 +179,16 @@ SVO_FN float svo_detail_series(float q, float k0, float k1) {
   return (pow(q, k1) - pow(q, k0)) / (q - 1.0f);
 }
 
-// Octaves drawn at all at footprint r: those with lambda_k > 4 r.
+// Octaves drawn at all at footprint r: those with lambda_k > 8 r.
 SVO_FN float svo_detail_drawn(SvoDetail d, float r) {
   float n = float(d.octaves);
-  return r > 0.0f ? clamp(ceil(log2(d.wavelength / (4.0f * r))), 0.0f, n) : n;
+  return r > 0.0f ? clamp(ceil(log2(d.wavelength / (SVO_DETAIL_DRAWN_FROM * r))), 0.0f, n) : n;
 }
 
 SVO_FN vec2 svo_detail_bounds(SvoDetail d, float r, float r_stored) {
   float n = float(d.octaves);
   float k1 = svo_detail_drawn(d, r);
-  float k0 = clamp(floor(log2(d.wavelength / (8.0f * r_stored))) + 1.0f, 0.0f, n);
+  float k0 = clamp(floor(log2(d.wavelength / (2.0f * SVO_DETAIL_DRAWN_FROM * r_stored))) + 1.0f, 0.0f, n);
   return vec2(d.amplitude * SVO_NOISE_MAX * svo_detail_series(d.gain, k0, k1),
               d.amplitude / d.wavelength * SVO_NOISE_MAX_GRADIENT * svo_detail_series(2.0f * d.gain, k0, k1));
 }

@@ -328,7 +328,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
   // Elements shorter than a quarter of the finest voxel see nothing new,
   // unless detail octaves are drawn: then a quarter of the finest drawn
-  // wavelength (between r and 2r).
+  // wavelength (between 2r and 4r).
   float shortest = params.material.z;
   if (svo_draws_detail(r)) {
     SvoDetail d = svo_trace_detail();

@@ -53,14 +53,16 @@ TEST(Detail, NoiseGradientMatchesFiniteDifferences) {
   EXPECT_LT(worst, 0.003);
 }
 
-TEST(Detail, AnOctaveIsExplicitAboveEightRadiiAndStatisticalBelowFour) {
-  EXPECT_EQ(svo_detail_weight(8.0f, 1.0f), 1.0f);
+TEST(Detail, AnOctaveIsExplicitAboveSixteenRadiiAndStatisticalBelowEight) {
+  EXPECT_EQ(svo_detail_weight(16.0f, 1.0f), 1.0f);
   EXPECT_EQ(svo_detail_weight(100.0f, 1.0f), 1.0f);
-  EXPECT_EQ(svo_detail_weight(4.0f, 1.0f), 0.0f);
+  EXPECT_EQ(svo_detail_weight(8.0f, 1.0f), 0.0f);
   EXPECT_EQ(svo_detail_weight(1.0f, 1.0f), 0.0f);
   EXPECT_EQ(svo_detail_weight(1.0f, 0.0f), 1.0f);
+  EXPECT_GT(svo_detail_weight(12.0f, 1.0f), 0.0f);
+  EXPECT_LT(svo_detail_weight(12.0f, 1.0f), 1.0f);
   float previous = 0;
-  for (float lambda = 4.0f; lambda <= 8.0f; lambda += 0.05f) {
+  for (float lambda = 8.0f; lambda <= 16.0f; lambda += 0.1f) {
     float w = svo_detail_weight(lambda, 1.0f);
     EXPECT_GE(w, previous);
     previous = w;
@@ -99,9 +101,9 @@ TEST(Detail, MovedVariancesAddUpAcrossFootprints) {
 TEST(Detail, DisplacementDrawsOnlyTheOctavesBetweenTwoFootprints) {
   SvoDetail d = test_detail();
   vec3 p(0.31f, -0.27f, 0.05f);
-  // Octave k is whole at r <= lambda_k / 8 and absent at r >= lambda_k / 4.
+  // Octave k is whole at r <= lambda_k / 16 and absent at r >= lambda_k / 8.
   vec4 octave0 = svo_detail_octave(d, 0u, p);
-  vec4 drawn = svo_detail_displacement(d, p, 0.1f / 8.0f, 0.1f / 4.0f);
+  vec4 drawn = svo_detail_displacement(d, p, 0.1f / 16.0f, 0.1f / 8.0f);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(drawn[i], octave0[i], 1e-6f);
   vec4 none = svo_detail_displacement(d, p, 0.02f, 0.02f);
   EXPECT_EQ(none, vec4(0.0f));

@@ -49,6 +49,7 @@ Frame test_frame(uint32_t width, uint32_t height) {
       t.abar = {0.3f, u, v};
       t.coverage = (u + v) / 2;
       f.gbuffer.push_back(t);
+      f.steps.push_back(x * 1000 + y * 7 + 3);
     }
   }
   return f;
@@ -146,6 +147,22 @@ TEST(ImageIo, GBufferHasEveryChannelExactly) {
       }
     }
   }
+}
+
+TEST(ImageIo, StepsImageHoldsEveryPixelsCount) {
+  TempDir dir;
+  Frame f = test_frame(13, 9);
+  write_steps(dir / "s.exr", f);
+  Image image = read_image(dir / "s.exr");
+  ASSERT_EQ(image.channels, std::vector<std::string>{"steps"});
+  for (int y = 0; y < 9; ++y) {
+    for (int x = 0; x < 13; ++x) ASSERT_EQ(image.at(x, y, 0), float(f.steps[size_t(y * 13 + x)])) << x << "," << y;
+  }
+  EXPECT_EQ(error_of([&] { write_steps(dir / "s.png", f); }),
+            (dir / "s.png") + ": the steps image is written as OpenEXR only (use .exr)");
+  f.steps.clear();
+  EXPECT_EQ(error_of([&] { write_steps(dir / "t.exr", f); }),
+            (dir / "t.exr") + ": cannot write: the frame's steps image holds 0 pixels, not 13 x 9");
 }
 
 TEST(ImageIo, ErrorsNameThePath) {

@@ -56,6 +56,13 @@ constexpr std::array<const char*, 12> kGBufferChannels{
 //        width * height texels, or the write fails.
 void write_gbuffer(const std::string& path, const Frame& frame);
 
+// Writes frame.steps (cone elements visited per pixel, shadow cones
+// included) as a one-channel float EXR named "steps", atomically: where a
+// frame's cost goes.
+// @throw ImageError when `path` is not .exr, the frame has no steps for
+//        width * height pixels, or the write fails.
+void write_steps(const std::string& path, const Frame& frame);
+
 // An image in memory: float samples, channel-interleaved, row-major, top row first.
 struct Image {
   int width = 0, height = 0;
