@@ -29,6 +29,9 @@ SVO_CONST float SVO_NOISE_SLOPE_VARIANCE = 0.2486f;
 // Bound on |n| and on |grad n|, for Lipschitz bounds and margins.
 SVO_CONST float SVO_NOISE_MAX = 1.0f;
 SVO_CONST float SVO_NOISE_MAX_GRADIENT = 3.5f;
+// Bound on n's second derivative along any unit direction (the largest of
+// 2^23 random samples is 10.0; tests/numerics/detail_test.cpp).
+SVO_CONST float SVO_NOISE_MAX_CURVATURE = 14.0f;
 // An octave is drawn (in part) for a footprint of radius r once its
 // wavelength exceeds this many radii, and whole from twice that. The
 // renderer shades one point per cone element, where the ground truth
@@ -136,20 +139,46 @@ SVO_FN vec4 svo_detail_octave(SvoDetail d, uint k, vec3 p) {
   return vec4(g * (a / lambda), gn.w * a);
 }
 
-// (gradient, value) of the displacement drawn at footprint r beyond what is
-// drawn at footprint r_stored >= r: sum of (e_k(r) - e_k(r_stored)) times
-// octave k. Octaves already whole at r_stored, or still none at r, cost
-// nothing.
-SVO_FN vec4 svo_detail_displacement(SvoDetail d, vec3 p, float r, float r_stored) {
-  vec4 sum = vec4(0.0f);
+// The displacement drawn at footprint r beyond what is drawn at footprint
+// r_stored >= r, and how far it can move along a ray.
+struct SvoDetailSample {
+  vec4 displacement;  // (gradient, value): sum of (e_k(r) - e_k(r_stored)) times octave k
+  vec4 change;        // bounds on |value(p + s dir) - value(p)| for the four distances s
+};
+
+// Octaves already whole at r_stored, or still none at r, cost nothing. For
+// each octave the change over a distance s is bounded three ways, and the
+// least bound taken: its amplitude bound plus its value at p (the fine
+// octaves), its slope bound
+// times s (the Lipschitz bound), and its own slope along `dir` at p times s
+// plus half its curvature bound times s^2 (the coarse octaves, whose slope
+// at p is usually far below the bound). A grazing ray in the shell the
+// octaves can reach then steps several times farther than the sum of the
+// slope bounds allows.
+SVO_FN SvoDetailSample svo_detail_displacement_along(SvoDetail d, vec3 p, float r, float r_stored, vec3 dir,
+                                                      vec4 s) {
+  SvoDetailSample res;
+  res.displacement = vec4(0.0f);
+  res.change = vec4(0.0f);
   for (uint k = 0u; k < d.octaves; ++k) {
     float lambda = svo_detail_wavelength(d, k);
     float w = svo_detail_weight(lambda, r) - svo_detail_weight(lambda, r_stored);
     if (lambda <= SVO_DETAIL_DRAWN_FROM * r) break;  // this octave and all finer ones: statistics only
     if (!(w > 0.0f)) continue;
-    sum += w * svo_detail_octave(d, k, p);
+    vec4 o = w * svo_detail_octave(d, k, p);
+    res.displacement += o;
+    float a = w * svo_detail_amplitude(d, k);
+    vec4 taylor = s * abs(dot(vec3(o), dir)) + (0.5f * a * SVO_NOISE_MAX_CURVATURE / (lambda * lambda)) * s * s;
+    vec4 lipschitz = s * (a * SVO_NOISE_MAX_GRADIENT / lambda);
+    res.change += min(vec4(a * SVO_NOISE_MAX + abs(o.w)), min(lipschitz, taylor));
   }
-  return sum;
+  return res;
+}
+
+// (gradient, value) of the displacement drawn at footprint r beyond what is
+// drawn at footprint r_stored >= r.
+SVO_FN vec4 svo_detail_displacement(SvoDetail d, vec3 p, float r, float r_stored) {
+  return svo_detail_displacement_along(d, p, r, r_stored, vec3(0.0f), vec4(0.0f)).displacement;
 }
 
 // Variances that move from statistics to explicit drawing between footprints

@@ -366,7 +366,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   }
   SvoVoxel v;
   m.blend = 0.0f;
-  float lipschitz = 1.0f;  // of the distance along the cone
+  float jump = -1.0f;  // how far the distance allows to skip past p (< 0: the distance less the radius)
   if (mode == SVO_MODE_NEAREST) {
     v = svo_sample_nearest(m.lo_cell, p);
     m.mask = v.hbar <= 0.0f ? uvec4(0xFFFFFFFFu) : uvec4(0u);
@@ -390,9 +390,21 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
       SvoDetail d = svo_trace_detail();
       vec2 bounds = svo_detail_bounds(d, r, params.detail_colour.w);
       if (v.hbar - bounds.x < half_length + r) {
-        detail = svo_detail_displacement(d, p, r, params.detail_colour.w);
+        // Four jumps to try: 1/16 to 1/128 of the longest the gap could
+        // allow, since the octaves seldom come near the shell's bound (on the
+        // deep zoom to the silhouette these did best among 1/2 to 1/256).
+        vec4 s = 0.8f * max(v.hbar + bounds.x - r, 0.0f) * vec4(0.0625f, 0.03125f, 0.015625f, 0.0078125f);
+        SvoDetailSample ds = svo_detail_displacement_along(d, p, r, params.detail_colour.w, cone.d, s);
+        detail = ds.displacement;
         v.hbar -= detail.w;
-        lipschitz = 1.0f + bounds.y;
+        // The stored distance changes by at most the jump, the drawn
+        // octaves by `change`: the longest jump that keeps both within the
+        // gap, else the Lipschitz bound of stored distance and octaves.
+        float gap = 0.8f * (v.hbar - r);
+        jump = gap / (1.0f + bounds.y);
+        for (int i = 3; i >= 0; --i) {
+          if (s[i] + ds.change[i] <= gap) jump = max(jump, s[i]);
+        }
       } else {
         v.hbar -= bounds.x;
       }
@@ -412,12 +424,11 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   m.p = p;
   m.depth = m.t + half_length;
   m.radius = r;
-  // The element cannot reach a surface farther than hbar: skip most of the gap.
-  // Where detail is evaluated, the distance changes up to 1 + its slope
-  // bound per unit of length.
+  // The element cannot reach a surface farther than hbar: skip most of the
+  // gap (where detail is evaluated, as far as its bounds allow).
   float advance = 2.0f * half_length;
   if (mode != SVO_MODE_NEAREST && v.hbar > half_length + r) {
-    advance = max(advance, half_length + 0.8f * (v.hbar - r) / lipschitz);
+    advance = max(advance, half_length + (jump >= 0.0f ? jump : 0.8f * (v.hbar - r)));
   }
   m.t += advance;
   return m;

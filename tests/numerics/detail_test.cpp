@@ -128,8 +128,61 @@ TEST(Detail, BoundsHoldTheDrawnDisplacementAndSlope) {
     EXPECT_LE(slope, bounds.y) << "r " << r;
     if (value > 0) EXPECT_LT(bounds.x, 8.0f * value) << "r " << r;
   }
-  // Nothing is drawn at footprints of a wavelength / 4 and more.
-  EXPECT_EQ(svo_detail_bounds(d, 0.1f / 4.0f, stored), vec2(0.0f));
+  // Nothing is drawn at footprints of a wavelength / 8 and more.
+  EXPECT_EQ(svo_detail_bounds(d, 0.1f / 8.0f, stored), vec2(0.0f));
+}
+
+// The noise's second derivative along random directions (finite differences
+// of its gradient) stays within the curvature bound the step bounds use.
+TEST(Detail, NoiseCurvatureStaysWithinItsBound) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-500.0, 500.0);
+  std::normal_distribution<double> z(0.0, 1.0);
+  const double e = 1e-3;
+  double worst = 0;
+  for (int i = 0; i < (1 << 20); ++i) {
+    vec3 q(float(u(rng)), float(u(rng)), float(u(rng)));
+    vec3 dir = normalize(vec3(float(z(rng)), float(z(rng)), float(z(rng))));
+    vec4 a = svo_gradient_noise(q + float(e) * dir, 17u), b = svo_gradient_noise(q - float(e) * dir, 17u);
+    worst = std::max(worst, std::abs(double(dot(vec3(a) - vec3(b), dir))) / (2 * e));
+  }
+  std::printf("largest second directional derivative: %.3f (bound %.1f)\n", worst, double(SVO_NOISE_MAX_CURVATURE));
+  EXPECT_LE(worst, SVO_NOISE_MAX_CURVATURE);
+  EXPECT_GT(worst, 0.5 * SVO_NOISE_MAX_CURVATURE);  // the bound is not loose
+}
+
+// How far the drawn displacement moves along a ray: the bounds hold at and
+// before each of the four distances, and for the short ones they are well
+// below the Lipschitz bound (the sum of the octaves' slope bounds), which
+// is what lets a ray through the shell step farther.
+TEST(Detail, ChangeAlongARayStaysWithinItsBounds) {
+  SvoDetail d = test_detail();
+  const float stored = 0.01f;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::normal_distribution<float> z(0.0f, 1.0f);
+  const vec4 s(0.1f, 0.01f, 0.001f, 0.0001f);
+  for (float r : {0.004f, 0.0005f, 0.0001f}) {
+    const float lipschitz = svo_detail_bounds(d, r, stored).y;
+    vec4 mean_change(0.0f);
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+      vec3 p(u(rng), u(rng), u(rng));
+      vec3 dir = normalize(vec3(z(rng), z(rng), z(rng)));
+      SvoDetailSample at = svo_detail_displacement_along(d, p, r, stored, dir, s);
+      EXPECT_EQ(at.displacement, svo_detail_displacement(d, p, r, stored));
+      mean_change += at.change / float(n);
+      for (int k = 0; k < 4; ++k) {
+        for (float f : {0.1f, 0.5f, 1.0f}) {
+          float moved = svo_detail_displacement(d, p + f * s[k] * dir, r, stored).w - at.displacement.w;
+          ASSERT_LE(std::abs(moved), at.change[k] * 1.0001f + 1e-9f) << "r " << r << ", s " << s[k] << " x " << f;
+        }
+        ASSERT_LE(at.change[k], lipschitz * s[k] * 1.0001f) << "r " << r << ", s " << s[k];
+      }
+    }
+    std::printf("r %g: mean change / Lipschitz bound at s = %g: %.3f\n", r, s[3], mean_change[3] / (lipschitz * s[3]));
+    if (lipschitz > 0) EXPECT_LT(mean_change[3], 0.5f * lipschitz * s[3]) << "r " << r;
+  }
 }
 
 // Colour linear in two independent Gaussian heights: the fold of the second
