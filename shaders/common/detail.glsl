@@ -144,6 +144,7 @@ SVO_FN vec4 svo_detail_octave(SvoDetail d, uint k, vec3 p) {
 struct SvoDetailSample {
   vec4 displacement;  // (gradient, value): sum of (e_k(r) - e_k(r_stored)) times octave k
   vec4 change;        // bounds on |value(p + s dir) - value(p)| for the four distances s
+  vec4 change2;       // the same for the four distances s2
 };
 
 // Octaves already whole at r_stored, or still none at r, cost nothing. For
@@ -156,10 +157,11 @@ struct SvoDetailSample {
 // octaves can reach then steps several times farther than the sum of the
 // slope bounds allows.
 SVO_FN SvoDetailSample svo_detail_displacement_along(SvoDetail d, vec3 p, float r, float r_stored, vec3 dir,
-                                                      vec4 s) {
+                                                      vec4 s, vec4 s2) {
   SvoDetailSample res;
   res.displacement = vec4(0.0f);
   res.change = vec4(0.0f);
+  res.change2 = vec4(0.0f);
   for (uint k = 0u; k < d.octaves; ++k) {
     float lambda = svo_detail_wavelength(d, k);
     float w = svo_detail_weight(lambda, r) - svo_detail_weight(lambda, r_stored);
@@ -168,9 +170,12 @@ SVO_FN SvoDetailSample svo_detail_displacement_along(SvoDetail d, vec3 p, float 
     vec4 o = w * svo_detail_octave(d, k, p);
     res.displacement += o;
     float a = w * svo_detail_amplitude(d, k);
-    vec4 taylor = s * abs(dot(vec3(o), dir)) + (0.5f * a * SVO_NOISE_MAX_CURVATURE / (lambda * lambda)) * s * s;
-    vec4 lipschitz = s * (a * SVO_NOISE_MAX_GRADIENT / lambda);
-    res.change += min(vec4(a * SVO_NOISE_MAX + abs(o.w)), min(lipschitz, taylor));
+    float along = abs(dot(vec3(o), dir));
+    float curvature = 0.5f * a * SVO_NOISE_MAX_CURVATURE / (lambda * lambda);
+    float slope = a * SVO_NOISE_MAX_GRADIENT / lambda;
+    vec4 cap = vec4(a * SVO_NOISE_MAX + abs(o.w));
+    res.change += min(cap, min(s * slope, s * along + curvature * s * s));
+    res.change2 += min(cap, min(s2 * slope, s2 * along + curvature * s2 * s2));
   }
   return res;
 }
@@ -178,7 +183,7 @@ SVO_FN SvoDetailSample svo_detail_displacement_along(SvoDetail d, vec3 p, float 
 // (gradient, value) of the displacement drawn at footprint r beyond what is
 // drawn at footprint r_stored >= r.
 SVO_FN vec4 svo_detail_displacement(SvoDetail d, vec3 p, float r, float r_stored) {
-  return svo_detail_displacement_along(d, p, r, r_stored, vec3(0.0f), vec4(0.0f)).displacement;
+  return svo_detail_displacement_along(d, p, r, r_stored, vec3(0.0f), vec4(0.0f), vec4(0.0f)).displacement;
 }
 
 // Variances that move from statistics to explicit drawing between footprints

@@ -390,11 +390,12 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
       SvoDetail d = svo_trace_detail();
       vec2 bounds = svo_detail_bounds(d, r, params.detail_colour.w);
       if (v.hbar - bounds.x < half_length + r) {
-        // Four jumps to try: 1/16 to 1/128 of the longest the gap could
-        // allow, since the octaves seldom come near the shell's bound (on the
-        // deep zoom to the silhouette these did best among 1/2 to 1/256).
-        vec4 s = 0.8f * max(v.hbar + bounds.x - r, 0.0f) * vec4(0.0625f, 0.03125f, 0.015625f, 0.0078125f);
-        SvoDetailSample ds = svo_detail_displacement_along(d, p, r, params.detail_colour.w, cone.d, s);
+        // Eight jumps to try, 1/2 to 1/256 of the longest the gap could
+        // allow: the octaves seldom come near the shell's bound.
+        float longest = 0.8f * max(v.hbar + bounds.x - r, 0.0f);
+        vec4 s = longest * vec4(0.5f, 0.25f, 0.125f, 0.0625f);
+        vec4 s2 = longest * vec4(0.03125f, 0.015625f, 0.0078125f, 0.00390625f);
+        SvoDetailSample ds = svo_detail_displacement_along(d, p, r, params.detail_colour.w, cone.d, s, s2);
         detail = ds.displacement;
         v.hbar -= detail.w;
         // The stored distance changes by at most the jump, the drawn
@@ -404,6 +405,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
         jump = gap / (1.0f + bounds.y);
         for (int i = 3; i >= 0; --i) {
           if (s[i] + ds.change[i] <= gap) jump = max(jump, s[i]);
+          if (s2[i] + ds.change2[i] <= gap) jump = max(jump, s2[i]);
         }
       } else {
         v.hbar -= bounds.x;

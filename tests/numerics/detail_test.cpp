@@ -169,7 +169,8 @@ TEST(Detail, ChangeAlongARayStaysWithinItsBounds) {
     for (int i = 0; i < n; ++i) {
       vec3 p(u(rng), u(rng), u(rng));
       vec3 dir = normalize(vec3(z(rng), z(rng), z(rng)));
-      SvoDetailSample at = svo_detail_displacement_along(d, p, r, stored, dir, s);
+      SvoDetailSample at = svo_detail_displacement_along(d, p, r, stored, dir, s, 0.5f * s);
+      ASSERT_EQ(at.change2, svo_detail_displacement_along(d, p, r, stored, dir, 0.5f * s, s).change);
       EXPECT_EQ(at.displacement, svo_detail_displacement(d, p, r, stored));
       mean_change += at.change / float(n);
       for (int k = 0; k < 4; ++k) {
