@@ -28,26 +28,38 @@ SVO_FN float svo_beckmann_d(vec3 m, vec2 sigma2) {
 
 // The cosine factor of a Lambertian micro-surface whose slopes have
 // variances sigma2 (per axis of the frame of v and l, mean zero): the mean
-// over the slopes of (l.m)(v.m) / (m.n), the light a facet m receives times
-// the share of the view it takes, divided by v.n; no masking. To first order
-// in sigma2 it is
-//   l.z (1 - (sx^2 + sy^2) / 2) + (sx^2 l.x v.x + sy^2 l.y v.y) / v.z:
-// tilted facets face the light less on average, and the facets the viewer
-// sees more of lean towards it. Written with 1 / sqrt(1 + sx^2 + sy^2) for
-// the first bracket (the same to first order, positive for any slopes) and
-// v.z floored at 0.25 where the expansion would blow up at grazing views.
+// over the slopes of max(l.m, 0) (v.m) / (m.n), the light a facet m receives
+// times the share of the view it takes, divided by v.n; no masking. To first
+// order in the slopes, l.m is Gaussian with mean l.z and variance
+// s^2 = l.x^2 sx^2 + l.y^2 sy^2, and the view weight (v.m) / (m.n v.z) is
+// 1 + Y with cov(l.m, Y) = lean = (sx^2 l.x v.x + sy^2 l.y v.y) / v.z, so
+//   E[max(l.m, 0) (1 + Y)] = l.z Phi(z) + s phi(z) + lean Phi(z), z = l.z / s
+// (Stein's lemma for the last term): tilted facets face the light less on
+// average, the facets the viewer sees more of lean towards it, and near and
+// past the terminator (l.z <= s) the facets that still face the light keep
+// the mean above zero, where the clamped l.z goes dark (a coarse voxel's
+// mean normal turned from the light showed as a dark band across a
+// defocused sphere, docs/RESULTS.md Fig. 4). Far from the terminator it is
+// (l.z + lean) times 1 / sqrt(1 + sx^2 + sy^2), which stands for the facets'
+// normalisation (the same to first order, positive for any slopes). v.z is
+// floored at 0.25 where the expansion would blow up at grazing views.
 // Beyond slope variance 0.1 per axis the expansion undershoots (facets
-// facing away from v or l drop out of the true mean: at variance 1 it would
-// give half the true value), so the variances are capped there: the factor
-// then lies between l.z and the true mean (Monte Carlo, variances 0.02 to 3).
-// The macro-normal Lambert term of paper Eq. 13 is l.z.
+// facing away from v drop out of the true mean: at variance 1 it would give
+// half the true value), so the variances are capped there: the factor then
+// lies between the clamped l.z and the true mean (Monte Carlo, variances
+// 0.02 to 3). The macro-normal Lambert term of paper Eq. 13 is max(l.z, 0).
 SVO_CONST float SVO_ROUGH_LAMBERT_MAX_VARIANCE = 0.1f;
 
 SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2_in) {
   vec2 sigma2 = min(sigma2_in, vec2(SVO_ROUGH_LAMBERT_MAX_VARIANCE));
   float shrink = 1.0f / sqrt(1.0f + sigma2.x + sigma2.y);
   float lean = (sigma2.x * l.x * v.x + sigma2.y * l.y * v.y) / max(v.z, 0.25f);
-  return max((l.z + lean) * shrink, 0.0f);
+  float s = sqrt(l.x * l.x * sigma2.x + l.y * l.y * sigma2.y);
+  if (!(s > 1.0e-6f * abs(l.z))) return max((l.z + lean) * shrink, 0.0f);
+  float z = l.z / s;
+  float lit = 0.5f * svo_erfc(-z / SVO_SQRT2);          // Phi(z): the facets facing the light
+  float density = 0.398942280f * exp(-0.5f * z * z);  // phi(z)
+  return max((l.z * lit + s * density + lean * lit) * shrink, 0.0f);
 }
 
 // Cook-Torrance specular lobe without Fresnel:

@@ -12,8 +12,8 @@
 // SVO_NOISE_VARIANCE, per-axis derivative variance SVO_NOISE_SLOPE_VARIANCE,
 // both over a uniform p; tests/numerics/detail_test.cpp measures them).
 //
-// Explicit weight e_k(r): 1 when lambda_k >= 16 r, 0 when lambda_k <= 8 r
-// (SVO_DETAIL_DRAWN_FROM radii), a smoothstep in log2(lambda_k / 8r)
+// Explicit weight e_k(r): 1 when lambda_k >= 8 r, 0 when lambda_k <= 4 r
+// (SVO_DETAIL_DRAWN_FROM radii), a smoothstep in log2(lambda_k / 4r)
 // between. An octave that is a fraction e explicit draws e a_k n and keeps (1 - e^2) a_k^2 of its variances as
 // statistics, so that explicit and statistical parts always add up to the
 // octave's own variance: the appearance cannot jump where an octave changes
@@ -33,13 +33,13 @@ SVO_CONST float SVO_NOISE_MAX_GRADIENT = 3.5f;
 // 2^23 random samples is 10.0; tests/numerics/detail_test.cpp).
 SVO_CONST float SVO_NOISE_MAX_CURVATURE = 14.0f;
 // An octave is drawn (in part) for a footprint of radius r once its
-// wavelength exceeds this many radii, and whole from twice that. The
-// renderer shades one point per cone element, where the ground truth
-// averages the footprint: an octave only 4 radii long drawn that way gave
-// its glints too sharply and made a deep zoom change 7-34% more from frame
-// to frame than the ground truth (docs/RESULTS.md, "Deep zoom"); from 8
-// radii the excess is a third smaller and the elements twice as long.
-SVO_CONST float SVO_DETAIL_DRAWN_FROM = 8.0f;
+// wavelength exceeds this many radii, and whole from twice that. Drawing
+// from 8 radii instead halved the cone elements in the shell and, at 256^3
+// and 64 x 64, took a third of the deep zoom's excess frame-to-frame change
+// away; at 512^3 and 128 x 128 it did not, and it left octaves the finest
+// voxels could draw as statistics: relMSE against the ground truth rose by
+// a third from zoom 2.5 to 40 (docs/RESULTS.md, "Deep zoom").
+SVO_CONST float SVO_DETAIL_DRAWN_FROM = 4.0f;
 
 struct SvoDetail {
   uint octaves;     // 0: no detail
@@ -204,7 +204,7 @@ SVO_FN vec2 svo_detail_moved_variance(SvoDetail d, float r, float r_stored) {
 
 // Bounds on what is drawn at footprint r beyond footprint r_stored:
 // (largest |displacement|, largest |gradient|), over whole octaves (those
-// with lambda_k > 8 r and not whole at r_stored), without a loop: octave
+// with lambda_k > 4 r and not whole at r_stored), without a loop: octave
 // k's amplitude is amplitude gain^k and its slope (amplitude / wavelength)
 // (2 gain)^k.
 SVO_FN float svo_detail_series(float q, float k0, float k1) {
@@ -213,7 +213,7 @@ SVO_FN float svo_detail_series(float q, float k0, float k1) {
   return (pow(q, k1) - pow(q, k0)) / (q - 1.0f);
 }
 
-// Octaves drawn at all at footprint r: those with lambda_k > 8 r.
+// Octaves drawn at all at footprint r: those with lambda_k > 4 r.
 SVO_FN float svo_detail_drawn(SvoDetail d, float r) {
   float n = float(d.octaves);
   return r > 0.0f ? clamp(ceil(log2(d.wavelength / (SVO_DETAIL_DRAWN_FROM * r))), 0.0f, n) : n;

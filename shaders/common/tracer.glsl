@@ -328,7 +328,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
   // Elements shorter than a quarter of the finest voxel see nothing new,
   // unless detail octaves are drawn: then a quarter of the finest drawn
-  // wavelength (between 2r and 4r).
+  // wavelength (between r and 2r).
   float shortest = params.material.z;
   if (svo_draws_detail(r)) {
     SvoDetail d = svo_trace_detail();
@@ -566,8 +566,9 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
       e = vec3(lr) / max(dist * dist, 1.0e-30f);
     }
     float ndl = dot(n, l);
-    if (!(ndl > 0.0f)) continue;
     vec3 ll = vec3(dot(l, tx), dot(l, ty), ndl);
+    float lambert = svo_rough_lambert(vl, ll, sn2);
+    if (!(ndl > 0.0f) && !(lambert > 0.0f)) continue;
     float visible = 1.0f;
     if ((params.image.w & SVO_FLAG_SHADOWS) != 0u) {
       float spread = lv.w > 0.5f ? lr.w / max(dist, 1.0e-30f) : tan(lr.w);
@@ -577,8 +578,6 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     }
     float lambda_l = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(ll, sn2) : 0.0f;
     vec3 a = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v + lambda_l) : m.v.abar;
-    // Lambert over the voxel's micro-slopes (beckmann.glsl; l.n with none).
-    float lambert = svo_rough_lambert(vl, ll, sn2);
     vec3 diffuse = a * (lambert / SVO_PI);
     vec3 specular = vec3(params.material.y * svo_specular_brdf(vl, ll, total) * ndl);
     s.radiance += e * (diffuse + specular) * visible;
@@ -602,7 +601,11 @@ struct SvoPixel {
 SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
   vec3 d = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
-  SvoCone cone = svo_make_cone(vec3(params.eye), d, 0.0f, k, params.cam_w.w, params.lens.x);
+  // The focus plane is perpendicular to the view axis at the focus distance
+  // (a thin lens, as Camera::focus and the reference take it): along this
+  // pixel's ray it lies 1 / cos(angle to the axis) farther.
+  float focus = params.lens.x / max(dot(d, vec3(params.cam_w)), 1.0e-6f);
+  SvoCone cone = svo_make_cone(vec3(params.eye), d, 0.0f, k, params.cam_w.w, focus);
   // The domain grown by the widest the cone gets inside it: a defocused
   // cone whose axis misses the domain may still cover some of it.
   float reach = length(vec3(params.eye) - (vec3(params.domain) + 0.5f * params.domain.w)) + params.domain.w;

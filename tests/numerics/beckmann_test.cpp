@@ -133,6 +133,32 @@ TEST(RoughLambert, MatchesTheMeanOverGaussianSlopes) {
   std::printf("rough Lambert: worst relative difference %.4f\n", worst);
 }
 
+// Near and past the mean plane's terminator (light 80 to 100 degrees from
+// the mean normal) the facets that still face the light keep the mean
+// above zero; the clamped macro-normal cosine goes dark there.
+TEST(RoughLambert, FollowsTheTruthAcrossTheTerminator) {
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> z(0.0, 1.0);
+  auto dir = [](double theta, double phi) {
+    return glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  for (double var : {0.01, 0.03, 0.1}) {
+    for (double degrees : {80.0, 85.0, 90.0, 95.0, 100.0}) {
+      glm::dvec3 v = dir(0.4, 1.0), l = dir(glm::radians(degrees), 2.5);
+      double sum = 0;
+      const int n = 400000;
+      for (int i = 0; i < n; ++i) {
+        glm::dvec3 m = glm::normalize(glm::dvec3(-std::sqrt(var) * z(rng), -std::sqrt(var) * z(rng), 1.0));
+        sum += std::max(glm::dot(l, m), 0.0) * std::max(glm::dot(v, m), 0.0) / m.z;
+      }
+      double mc = sum / n / v.z;
+      double ours = svo::math::svo_rough_lambert(glm::vec3(v), glm::vec3(l), glm::vec2(float(var)));
+      // Within 8% of the truth, or 0.001 where it is that dark.
+      EXPECT_NEAR(ours, mc, std::max(0.08 * mc, 0.001)) << "variance " << var << ", light at " << degrees;
+    }
+  }
+}
+
 // Beyond the cap (variance 0.1 per axis) the factor stays between the
 // macro-normal cosine and the true mean, or within 4% of the truth.
 TEST(RoughLambert, StaysNearTheTruthForLargeSlopes) {

@@ -53,16 +53,18 @@ TEST(Detail, NoiseGradientMatchesFiniteDifferences) {
   EXPECT_LT(worst, 0.003);
 }
 
-TEST(Detail, AnOctaveIsExplicitAboveSixteenRadiiAndStatisticalBelowEight) {
-  EXPECT_EQ(svo_detail_weight(16.0f, 1.0f), 1.0f);
+// From SVO_DETAIL_DRAWN_FROM radii (F) on, whole from 2 F.
+TEST(Detail, AnOctaveIsExplicitAboveTwiceTheRampStartAndStatisticalBelowIt) {
+  const float f = SVO_DETAIL_DRAWN_FROM;
+  EXPECT_EQ(svo_detail_weight(2.0f * f, 1.0f), 1.0f);
   EXPECT_EQ(svo_detail_weight(100.0f, 1.0f), 1.0f);
-  EXPECT_EQ(svo_detail_weight(8.0f, 1.0f), 0.0f);
+  EXPECT_EQ(svo_detail_weight(f, 1.0f), 0.0f);
   EXPECT_EQ(svo_detail_weight(1.0f, 1.0f), 0.0f);
   EXPECT_EQ(svo_detail_weight(1.0f, 0.0f), 1.0f);
-  EXPECT_GT(svo_detail_weight(12.0f, 1.0f), 0.0f);
-  EXPECT_LT(svo_detail_weight(12.0f, 1.0f), 1.0f);
+  EXPECT_GT(svo_detail_weight(1.5f * f, 1.0f), 0.0f);
+  EXPECT_LT(svo_detail_weight(1.5f * f, 1.0f), 1.0f);
   float previous = 0;
-  for (float lambda = 8.0f; lambda <= 16.0f; lambda += 0.1f) {
+  for (float lambda = f; lambda <= 2.0f * f; lambda += 0.01f * f) {
     float w = svo_detail_weight(lambda, 1.0f);
     EXPECT_GE(w, previous);
     previous = w;
@@ -101,9 +103,10 @@ TEST(Detail, MovedVariancesAddUpAcrossFootprints) {
 TEST(Detail, DisplacementDrawsOnlyTheOctavesBetweenTwoFootprints) {
   SvoDetail d = test_detail();
   vec3 p(0.31f, -0.27f, 0.05f);
-  // Octave k is whole at r <= lambda_k / 16 and absent at r >= lambda_k / 8.
+  // Octave k is whole at r <= lambda_k / 2F and absent at r >= lambda_k / F.
+  const float f = SVO_DETAIL_DRAWN_FROM;
   vec4 octave0 = svo_detail_octave(d, 0u, p);
-  vec4 drawn = svo_detail_displacement(d, p, 0.1f / 16.0f, 0.1f / 8.0f);
+  vec4 drawn = svo_detail_displacement(d, p, 0.1f / (2.0f * f), 0.1f / f);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(drawn[i], octave0[i], 1e-6f);
   vec4 none = svo_detail_displacement(d, p, 0.02f, 0.02f);
   EXPECT_EQ(none, vec4(0.0f));
@@ -128,8 +131,8 @@ TEST(Detail, BoundsHoldTheDrawnDisplacementAndSlope) {
     EXPECT_LE(slope, bounds.y) << "r " << r;
     if (value > 0) EXPECT_LT(bounds.x, 8.0f * value) << "r " << r;
   }
-  // Nothing is drawn at footprints of a wavelength / 8 and more.
-  EXPECT_EQ(svo_detail_bounds(d, 0.1f / 8.0f, stored), vec2(0.0f));
+  // Nothing is drawn at footprints of a wavelength / F and more.
+  EXPECT_EQ(svo_detail_bounds(d, 0.1f / SVO_DETAIL_DRAWN_FROM, stored), vec2(0.0f));
 }
 
 // The noise's second derivative along random directions (finite differences

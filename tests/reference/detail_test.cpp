@@ -203,9 +203,9 @@ TEST(Detail, MeanColourHoldsAcrossTheExplicitStatisticalTransition) {
   for (const auto& c : f.colour) truth_mean += glm::dvec3(c);
   truth_mean /= double(f.colour.size());
   std::printf("reference: mean colour %.5f %.5f %.5f\n", truth_mean.x, truth_mean.y, truth_mean.z);
-  // Octave 0 (wavelength 0.02) starts to be drawn at radius 0.02 / 8 and is
-  // whole from 0.02 / 16 (SVO_DETAIL_DRAWN_FROM): the sizes straddle that
-  // whole transition and the start of octave 1's.
+  // Octave 0 (wavelength 0.02) starts to be drawn at radius 0.02 / F and is
+  // whole from 0.02 / 2F (F = SVO_DETAIL_DRAWN_FROM): the sizes straddle
+  // that whole transition and the start of octave 1's.
   EXPECT_GT(radii.front(), 0.02f / math::SVO_DETAIL_DRAWN_FROM);
   EXPECT_LT(radii.back(), 0.02f / (2.0f * math::SVO_DETAIL_DRAWN_FROM));
   EXPECT_LT(radii.back(), 0.01f / math::SVO_DETAIL_DRAWN_FROM);
