@@ -318,9 +318,15 @@ DetailedScene::DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::
   for (uint32_t k = 0; k < detail_.octaves; ++k) {
     slope += detail_.amplitude * std::pow(detail_.gain, float(k)) / (detail_.wavelength * std::exp2(-float(k)));
   }
-  lipschitz_ = base_->lipschitz() + slope * svo::math::SVO_NOISE_MAX_GRADIENT;
-  for (uint32_t k = 0; k < detail_.octaves; ++k) reach_ += detail_.amplitude * std::pow(detail_.gain, float(k));
-  reach_ *= svo::math::SVO_NOISE_MAX;
+  float amplitude = 0;
+  for (uint32_t k = 0; k < detail_.octaves; ++k) amplitude += detail_.amplitude * std::pow(detail_.gain, float(k));
+  amplitude *= svo::math::SVO_NOISE_MAX;
+  // |grad (|grad f| D)| <= L |grad D| + |D| |grad |grad f||; the second term,
+  // the displacement times the base's curvature, is taken as at most 1 (the
+  // bumpy sphere's: 0.004 times about 20).
+  const float steepest = base_->lipschitz();
+  lipschitz_ = steepest * (1.0f + slope * svo::math::SVO_NOISE_MAX_GRADIENT) + 1.0f;
+  reach_ = amplitude * steepest;
 }
 
 glm::dvec2 DetailedScene::distance_bound(glm::vec3 p) const {
@@ -345,10 +351,18 @@ glm::vec4 DetailedScene::displacement(glm::vec3 p) const {
   return svo::math::svo_detail_displacement(shared_detail(detail_), p, drawn_radius_, 3.0e38f);
 }
 
-float DetailedScene::distance(glm::vec3 p) const { return base_->distance(p) - displacement(p).w; }
+float DetailedScene::distance(glm::vec3 p) const {
+  const glm::vec4 f = base_->distance_gradient(p);
+  return f.w - glm::length(glm::vec3(f)) * displacement(p).w;
+}
 
+// The normal moved as the renderer moves it: the base's unit normal tilted
+// by grad D (svo_detail_tilt), scaled by |grad f| (the term D grad |grad f|
+// is left out: the displacement times the base's curvature).
 glm::vec4 DetailedScene::distance_gradient(glm::vec3 p) const {
-  return base_->distance_gradient(p) - displacement(p);
+  const glm::vec4 f = base_->distance_gradient(p);
+  const float norm = glm::length(glm::vec3(f));
+  return glm::vec4(f) - norm * displacement(p);
 }
 
 glm::vec3 DetailedScene::colour(glm::vec3 q) const {

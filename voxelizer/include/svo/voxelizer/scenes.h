@@ -58,8 +58,11 @@ class AnalyticScene : public SurfaceSource {
 };
 
 // A scene with procedural detail octaves (octree::Detail, the math in
-// shaders/common/detail.glsl): distance(p) = base distance(p) - D(p) and
-// colour + colour_slope D, D the octaves' displacement. With `all_octaves`
+// shaders/common/detail.glsl): the surface moved by D(p) along the base's
+// normal, distance(p) = f(p) - |grad f(p)| D(p) for the base's f (whose
+// gradient need not be unit: the bumpy sphere's is up to 1.4 long on its
+// bumps' slopes, and f - D alone would move the surface by D / |grad f|
+// there), and colour + colour_slope D, D the octaves' displacement. With `all_octaves`
 // (the reference) D holds every octave. Otherwise (the voxelizer) D holds
 // only what the lattice given to prepare() can draw, the fraction
 // e_k(voxel / sqrt(2)) of each octave, as the renderer does at the finest
@@ -91,7 +94,7 @@ class DetailedScene : public AnalyticScene {
   bool all_;
   float drawn_radius_ = 0;  // footprint radius whose octaves are drawn (0: all)
   float lipschitz_ = 1;
-  float reach_ = 0;  // largest |displacement|
+  float reach_ = 0;  // largest |displacement| times the base's Lipschitz bound (its largest |grad f|)
 };
 
 // Detail octaves with the defaults of the command line: octave 0 of
