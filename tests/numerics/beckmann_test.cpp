@@ -102,27 +102,34 @@ TEST(Beckmann, VariancesAdd) {
   EXPECT_LT(svo_beckmann_d(tilted, vec2(0.01f)), svo_beckmann_d(tilted, vec2(0.05f)));
 }
 
+// Unit direction at polar angle theta, azimuth phi.
+glm::dvec3 direction(double theta, double phi) {
+  return glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+}
+
+// Monte Carlo over n Gaussian slopes of per-axis variances var: the mean of
+// max(l.m, 0) max(v.m, 0) / (m.n), divided by v.n (no masking).
+double lambert_over_slopes(glm::dvec3 v, glm::dvec3 l, glm::dvec2 var, int n, std::mt19937_64& rng) {
+  std::normal_distribution<double> z(0.0, 1.0);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    glm::dvec3 m = glm::normalize(glm::dvec3(-std::sqrt(var.x) * z(rng), -std::sqrt(var.y) * z(rng), 1.0));
+    sum += std::max(glm::dot(l, m), 0.0) * std::max(glm::dot(v, m), 0.0) / m.z;
+  }
+  return sum / n / v.z;
+}
+
 // svo_rough_lambert against Monte Carlo of the mean of (l.m)(v.m) / (m.n)
 // over Gaussian slopes, divided by v.n (facets facing away from v or l
 // contribute nothing): within 1% up to slope variance 0.05 per axis and
 // 60 degrees, where the first-order form holds.
 TEST(RoughLambert, MatchesTheMeanOverGaussianSlopes) {
   std::mt19937_64 rng(21);
-  std::normal_distribution<double> z(0.0, 1.0);
-  auto dir = [](double theta, double phi) {
-    return glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-  };
   double worst = 0;
   for (glm::dvec2 var : {glm::dvec2(0.005, 0.005), glm::dvec2(0.02, 0.02), glm::dvec2(0.05, 0.01)}) {
     for (int c = 0; c < 6; ++c) {
-      glm::dvec3 v = dir(0.2 * c, 0.9 * c), l = dir(1.05 - 0.15 * c, 2.0 + 0.7 * c);
-      double sum = 0;
-      const int n = 400000;
-      for (int i = 0; i < n; ++i) {
-        glm::dvec3 m = glm::normalize(glm::dvec3(-std::sqrt(var.x) * z(rng), -std::sqrt(var.y) * z(rng), 1.0));
-        sum += std::max(glm::dot(l, m), 0.0) * std::max(glm::dot(v, m), 0.0) / m.z;
-      }
-      double mc = sum / n / v.z;
+      glm::dvec3 v = direction(0.2 * c, 0.9 * c), l = direction(1.05 - 0.15 * c, 2.0 + 0.7 * c);
+      double mc = lambert_over_slopes(v, l, var, 400000, rng);
       double ours = svo::math::svo_rough_lambert(glm::vec3(v), glm::vec3(l), glm::vec2(var));
       worst = std::max(worst, std::abs(ours / mc - 1.0));
       EXPECT_NEAR(ours / mc, 1.0, 0.01) << "variance " << var.x << ", " << var.y << ", case " << c;
@@ -138,20 +145,10 @@ TEST(RoughLambert, MatchesTheMeanOverGaussianSlopes) {
 // above zero; the clamped macro-normal cosine goes dark there.
 TEST(RoughLambert, FollowsTheTruthAcrossTheTerminator) {
   std::mt19937_64 rng(23);
-  std::normal_distribution<double> z(0.0, 1.0);
-  auto dir = [](double theta, double phi) {
-    return glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-  };
   for (double var : {0.01, 0.03, 0.1}) {
     for (double degrees : {80.0, 85.0, 90.0, 95.0, 100.0}) {
-      glm::dvec3 v = dir(0.4, 1.0), l = dir(glm::radians(degrees), 2.5);
-      double sum = 0;
-      const int n = 400000;
-      for (int i = 0; i < n; ++i) {
-        glm::dvec3 m = glm::normalize(glm::dvec3(-std::sqrt(var) * z(rng), -std::sqrt(var) * z(rng), 1.0));
-        sum += std::max(glm::dot(l, m), 0.0) * std::max(glm::dot(v, m), 0.0) / m.z;
-      }
-      double mc = sum / n / v.z;
+      glm::dvec3 v = direction(0.4, 1.0), l = direction(glm::radians(degrees), 2.5);
+      double mc = lambert_over_slopes(v, l, glm::dvec2(var), 400000, rng);
       double ours = svo::math::svo_rough_lambert(glm::vec3(v), glm::vec3(l), glm::vec2(float(var)));
       // Within 8% of the truth, or 0.001 where it is that dark.
       EXPECT_NEAR(ours, mc, std::max(0.08 * mc, 0.001)) << "variance " << var << ", light at " << degrees;
@@ -163,20 +160,10 @@ TEST(RoughLambert, FollowsTheTruthAcrossTheTerminator) {
 // macro-normal cosine and the true mean, or within 4% of the truth.
 TEST(RoughLambert, StaysNearTheTruthForLargeSlopes) {
   std::mt19937_64 rng(22);
-  std::normal_distribution<double> z(0.0, 1.0);
-  auto dir = [](double theta, double phi) {
-    return glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-  };
   for (double var : {0.3, 1.0, 3.0}) {
     for (int c = 0; c < 4; ++c) {
-      glm::dvec3 v = dir(0.25 * c, 0.3 + c), l = dir(1.2 - 0.25 * c, 2.0 - 0.5 * c);
-      double sum = 0;
-      const int n = 200000;
-      for (int i = 0; i < n; ++i) {
-        glm::dvec3 m = glm::normalize(glm::dvec3(-std::sqrt(var) * z(rng), -std::sqrt(var) * z(rng), 1.0));
-        sum += std::max(glm::dot(l, m), 0.0) * std::max(glm::dot(v, m), 0.0) / m.z;
-      }
-      double mc = sum / n / v.z;
+      glm::dvec3 v = direction(0.25 * c, 0.3 + c), l = direction(1.2 - 0.25 * c, 2.0 - 0.5 * c);
+      double mc = lambert_over_slopes(v, l, glm::dvec2(var), 200000, rng);
       double ours = svo::math::svo_rough_lambert(glm::vec3(v), glm::vec3(l), glm::vec2(float(var)));
       EXPECT_LE(std::abs(ours - mc), std::abs(l.z - mc) + 0.04 * mc) << "variance " << var << ", case " << c;
     }
