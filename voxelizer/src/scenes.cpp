@@ -326,15 +326,16 @@ DetailedScene::DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::
   // bumpy sphere's: 0.004 times about 20).
   const float steepest = base_->lipschitz();
   lipschitz_ = steepest * (1.0f + slope * svo::math::SVO_NOISE_MAX_GRADIENT) + 1.0f;
-  reach_ = amplitude * steepest;
+  reach_ = amplitude;
+  reach_f_ = amplitude * steepest;
 }
 
 glm::dvec2 DetailedScene::distance_bound(glm::vec3 p) const {
   glm::dvec2 base = base_->distance_bound(p);
-  const double margin = std::abs(base.x) - reach_;
+  const double margin = std::abs(base.x) - reach_f_;
   if (margin > 0) {
-    // The displaced surface lies within reach_ of the base's (along its
-    // gradient of norm ~1): a sphere of base radius * (margin / |f|) is clear.
+    // On the displaced surface f = |grad f| D, so |f| <= reach_f_ there: a
+    // sphere of base radius * (margin / |f|) is clear.
     return {base.x, base.y * margin / std::abs(base.x)};
   }
   double f = distance(p);

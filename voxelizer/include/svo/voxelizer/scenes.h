@@ -94,7 +94,8 @@ class DetailedScene : public AnalyticScene {
   bool all_;
   float drawn_radius_ = 0;  // footprint radius whose octaves are drawn (0: all)
   float lipschitz_ = 1;
-  float reach_ = 0;  // largest |displacement| times the base's Lipschitz bound (its largest |grad f|)
+  float reach_ = 0;    // largest |displacement|: how far the surface moves
+  float reach_f_ = 0;  // the same in units of the base's f (times its largest |grad f|)
 };
 
 // Detail octaves with the defaults of the command line: octave 0 of
