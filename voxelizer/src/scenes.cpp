@@ -323,7 +323,8 @@ DetailedScene::DetailedScene(std::unique_ptr<AnalyticScene> base, const octree::
   amplitude *= svo::math::SVO_NOISE_MAX;
   // |grad (|grad f| D)| <= L |grad D| + |D| |grad |grad f||; the second term,
   // the displacement times the base's curvature, is taken as at most 1 (the
-  // bumpy sphere's: 0.004 times about 20).
+  // bumpy sphere's: 0.004 times at most 70, the largest |grad |grad f|| of
+  // 2 million points near its surface, where |grad f| reached 2.5).
   const float steepest = base_->lipschitz();
   lipschitz_ = steepest * (1.0f + slope * svo::math::SVO_NOISE_MAX_GRADIENT) + 1.0f;
   reach_ = amplitude;
