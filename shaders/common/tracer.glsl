@@ -567,6 +567,8 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     }
     float ndl = dot(n, l);
     vec3 ll = vec3(dot(l, tx), dot(l, ty), ndl);
+    // Lambert over the voxel's micro-slopes (beckmann.glsl; l.n with none):
+    // past the mean plane's terminator, the facets still facing the light.
     float lambert = svo_rough_lambert(vl, ll, sn2);
     if (!(ndl > 0.0f) && !(lambert > 0.0f)) continue;
     float visible = 1.0f;
