@@ -1,5 +1,7 @@
 #include "svo/voxelizer/scenes.h"
 
+#include "svo/voxelizer/sine_bumps.h"
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -198,43 +200,13 @@ namespace {
 // of deviation 0.012 (paper Fig. 11); colour follows the bump height.
 class BumpySphere : public AnalyticScene {
  public:
-  BumpySphere() {
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    const int n = 24;
-    float amplitude = kSigma * std::sqrt(2.0f / n);
-    for (int i = 0; i < n; ++i) {
-      float z = 2 * u(rng) - 1, phi = 2 * float(M_PI) * u(rng), r = std::sqrt(1 - z * z);
-      float f = 25.0f + 35.0f * u(rng);
-      bumps_.push_back({amplitude, glm::vec3(r * std::cos(phi), r * std::sin(phi), z) * f, 2 * float(M_PI) * u(rng)});
-      max_slope += amplitude * f;
-    }
-    lipschitz_ = std::sqrt(1.0f + max_slope * max_slope / (0.5f * 0.5f));  // |grad b| / r for r >= 0.5
+  BumpySphere() : bumps_(kSigma, 24, 11u, [](float u) { return 25.0f + 35.0f * u; }) {
+    // |grad b| / r for r >= 0.5.
+    lipschitz_ = std::sqrt(1.0f + bumps_.max_slope() * bumps_.max_slope() / (0.5f * 0.5f));
   }
-  float bump(glm::vec3 dir) const {
-    float b = 0;
-    for (const auto& k : bumps_) b += k.amplitude * std::sin(glm::dot(k.frequency, dir) + k.phase);
-    return b;
-  }
-  float distance(glm::vec3 p) const override {
-    float r = glm::length(p);
-    if (r < 1e-6f) return -kRadius;
-    return r - (kRadius + bump(p / r));
-  }
-  // grad f = u - (I - u u^T) grad b / r, u = p / r.
-  glm::vec4 distance_gradient(glm::vec3 p) const override {
-    float r = glm::length(p);
-    if (r < 1e-6f) return glm::vec4(0, 0, 1, -kRadius);
-    glm::vec3 u = p / r, gb(0);
-    float b = 0;
-    for (const auto& k : bumps_) {
-      float phase = glm::dot(k.frequency, u) + k.phase;
-      b += k.amplitude * std::sin(phase);
-      gb += k.amplitude * std::cos(phase) * k.frequency;
-    }
-    glm::vec3 tangential = (gb - u * glm::dot(u, gb)) / r;
-    return glm::vec4(u - tangential, r - (kRadius + b));
-  }
+  float bump(glm::vec3 dir) const { return bumps_.height(dir); }
+  float distance(glm::vec3 p) const override { return bumps_.sphere_distance(p, kRadius); }
+  glm::vec4 distance_gradient(glm::vec3 p) const override { return bumps_.sphere_distance_gradient(p, kRadius); }
   float lipschitz() const override { return lipschitz_; }
   glm::vec3 colour(glm::vec3 q) const override {
     float h = bump(glm::normalize(q));
@@ -251,13 +223,8 @@ class BumpySphere : public AnalyticScene {
   static constexpr float kRadius = 0.7f;
   static constexpr float kSigma = 0.012f;
   static constexpr glm::vec3 kColourSlope{0.35f, 0.3f, -0.12f};
-  struct Bump {
-    float amplitude;
-    glm::vec3 frequency;
-    float phase;
-  };
-  std::vector<Bump> bumps_;
-  float max_slope = 0, lipschitz_ = 1;
+  SineBumps bumps_;
+  float lipschitz_ = 1;
 };
 
 // A capped cylinder along y whose radius varies with the angle only:

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "svo/voxelizer/scenes.h"
+#include "svo/voxelizer/sine_bumps.h"
 
 namespace svo::voxelizer {
 
@@ -40,13 +41,8 @@ class FineBumpySphere : public AnalyticScene {
   std::string name() const override { return "fine-bumpy-sphere"; }
 
  private:
-  struct Bump {
-    float amplitude;
-    glm::vec3 frequency;
-    float phase;
-  };
   Options o_;
-  std::vector<Bump> bumps_;
+  SineBumps bumps_;
   float lipschitz_ = 1;
 };
 
