@@ -32,6 +32,7 @@ struct RenderArgs {
   ViewOptions view;
   std::string mode = "prefiltered";
   uint32_t spp = 1;
+  float footprint_spread = render::RenderSettings{}.footprint_spread;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -84,6 +85,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--spp", a->spp, "Rays per pixel of --mode raymarch: a square, 1 to 4096")
       ->default_val(1)
       ->check(CLI::Range(1u, 4096u))
+      ->group("Shading");
+  cmd->add_option("--footprint-spread", a->footprint_spread,
+                  "Weight in [0, 4] of the normals' spread over each cone's footprint, added to the voxels' slope "
+                  "variance (prefiltered and alpha modes); 0: the voxels' statistics alone, as in the paper")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 4.0f))
       ->group("Shading");
   add_light_options(*cmd, a->view);
 
@@ -148,6 +155,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.camera = resolve_camera(a->view, camera, &tree);
     settings.mode = *mode;
     settings.spp = a->spp;
+    settings.footprint_spread = a->footprint_spread;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
     settings.lights = make_lights(a->view, centre);
@@ -200,6 +208,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
                          {"steps_per_pixel", frame.steps_per_pixel},
                          {"shadows", settings.shadows},
+                         {"footprint_spread", settings.footprint_spread},
                          {"lights", lights_json(settings.lights)},
                          {"camera", camera_json(settings.camera)},
                          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

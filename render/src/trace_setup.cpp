@@ -180,7 +180,10 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
     p.detail_colour = glm::vec4(d.colour_slope, finest / svo::math::SVO_SQRT2);
     p.detail_u = glm::uvec4(d.octaves, d.seed, 0, 0);
   }
-  p.material = glm::vec4(tree.sigma_rho2, s.specular, finest, 0);
+  if (!(s.footprint_spread >= 0 && s.footprint_spread <= 4)) {
+    throw std::invalid_argument("footprint spread must be in [0, 4], got " + std::to_string(s.footprint_spread));
+  }
+  p.material = glm::vec4(tree.sigma_rho2, s.specular, finest, s.footprint_spread);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);
   p.ambient = glm::vec4(s.ambient, 0);
   p.background = glm::vec4(s.background, 0);

@@ -40,7 +40,7 @@ struct SvoTraceParams {
   vec4 cam_w;      // xyz: unit view direction; w: lens radius (0: pinhole)
   vec4 lens;       // x: focus distance; y: rays per pixel (raymarch mode, n x n); z, w: first row and rows of them to trace
   vec4 domain;     // xyz: origin of the cube; w: its side
-  vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size
+  vec4 material;   // x: sigma_rho^2; y: specular weight; z: finest voxel size; w: footprint spread weight
   vec4 constant_colour;  // abar when the file has no colour
   vec4 ambient;    // rgb
   vec4 background;  // rgb

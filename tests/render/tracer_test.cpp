@@ -181,6 +181,11 @@ TEST(Tracer, RejectsBadSettingsWithAMessage) {
   s.camera = test::looking_at_origin({0, 0, 3}, 40);
   s.lights.assign(kMaxLights + 1, Light{});
   EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
+  s.lights.assign(1, Light{});
+  for (float spread : {-0.5f, 5.0f, std::nanf("")}) {
+    s.footprint_spread = spread;
+    EXPECT_THROW(render_cpu(tree, s), std::invalid_argument) << spread;
+  }
 }
 
 }  // namespace

@@ -65,6 +65,11 @@ struct RenderSettings {
   glm::vec3 ambient{0.08f, 0.08f, 0.1f};  // unshadowed ambient irradiance / pi, times abar
   glm::vec3 background{0.02f, 0.02f, 0.03f};  // radiance of the bits no element set
   float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
+  // Prefiltered and alpha modes: weight of the normals' spread over each
+  // cone's footprint, added to the voxels' slope variance (tracer.glsl,
+  // svo_footprint_slope_covariance); 0 leaves the voxels' statistics alone
+  // (the paper's model). In [0, 4].
+  float footprint_spread = 0.5f;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
