@@ -33,6 +33,8 @@ struct RenderArgs {
   std::string mode = "prefiltered";
   uint32_t spp = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
+  bool flat_masks = false;
+  bool keep_back_facing = false;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -91,6 +93,14 @@ void add_render_command(CLI::App& app, int& exit_code) {
                   "variance (prefiltered and alpha modes); 0: the voxels' statistics alone, as in the paper")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 4.0f))
+      ->group("Shading");
+  cmd->add_flag("--flat-masks", a->flat_masks,
+                "Occlusion masks from the voxels' mean planes alone, as in the paper (default: they bend with the "
+                "surface's curvature along the cone, which keeps convex silhouettes from spreading)")
+      ->group("Shading");
+  cmd->add_flag("--keep-back-facing", a->keep_back_facing,
+                "Shade with mean normals that face away from the eye as they are (default: they are laid into the "
+                "silhouette plane, where a limb's visible normals lie)")
       ->group("Shading");
   add_light_options(*cmd, a->view);
 
@@ -156,6 +166,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.mode = *mode;
     settings.spp = a->spp;
     settings.footprint_spread = a->footprint_spread;
+    settings.curved_masks = !a->flat_masks;
+    settings.front_facing = !a->keep_back_facing;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
     settings.lights = make_lights(a->view, centre);
@@ -209,6 +221,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"steps_per_pixel", frame.steps_per_pixel},
                          {"shadows", settings.shadows},
                          {"footprint_spread", settings.footprint_spread},
+                         {"curved_masks", settings.curved_masks},
+                         {"front_facing", settings.front_facing},
                          {"lights", lights_json(settings.lights)},
                          {"camera", camera_json(settings.camera)},
                          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

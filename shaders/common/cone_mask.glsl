@@ -19,10 +19,24 @@ struct SvoMaskParams {
 };
 
 // n: unit mean normal in the cone frame; hbar: signed distance of the element
-// centre to the plane; radius > 0; half_length: l above. Never divides by
-// zero: a plane facing the cone (nx = ny = 0) gives all or nothing.
-SVO_FN SvoMaskParams svo_cone_mask_params(vec3 n, float hbar, float radius, float half_length) {
-  float num = abs(n.z) * half_length - hbar;
+// centre to the plane; radius > 0; half_length: l above; kappa: the surface's
+// curvature along the axis, d^2 f / dz^2 of its distance f (> 0 convex).
+// Never divides by zero: a plane facing the cone (nx = ny = 0) gives all or
+// nothing.
+//
+// With kappa, f(z) = hbar + nx x + ny y + nz z + kappa z^2 / 2 along the ray
+// through (x, y): a convex surface falls away from its tangent plane, so the
+// ray meets it iff nx x + ny y <= max over |z| <= l of -(nz z + kappa z^2 / 2)
+// less hbar. That maximum ("reach") is nz^2 / (2 kappa) where the ray's
+// closest approach lies within the element (kappa > 0, |nz| < kappa l), else
+// |nz| l - kappa l^2 / 2; kappa = 0 gives the plane's |nz| l. The plane
+// alone covers too much of a convex silhouette: its tangent plane reaches
+// past the surface by kappa l^2 / 2.
+SVO_FN SvoMaskParams svo_cone_mask_params_curved(vec3 n, float hbar, float radius, float half_length, float kappa) {
+  float nz = abs(n.z);
+  float reach = (kappa > 0.0f && nz < kappa * half_length) ? nz * nz / (2.0f * kappa)
+                                                           : nz * half_length - 0.5f * kappa * half_length * half_length;
+  float num = reach - hbar;
   float den = radius * sqrt(n.x * n.x + n.y * n.y);
   SvoMaskParams p;
   if (abs(num) < den) {
@@ -33,6 +47,11 @@ SVO_FN SvoMaskParams svo_cone_mask_params(vec3 n, float hbar, float radius, floa
     p.v = num >= 0.0f ? SVO_MASK_V_ALL : -SVO_MASK_V_ALL;
   }
   return p;
+}
+
+// The mean plane alone (paper Fig. 7).
+SVO_FN SvoMaskParams svo_cone_mask_params(vec3 n, float hbar, float radius, float half_length) {
+  return svo_cone_mask_params_curved(n, hbar, radius, half_length, 0.0f);
 }
 
 // Whether footprint point w (unit disk) is covered.

@@ -454,7 +454,21 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
       float nl = length(v.n);
       vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
       vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
-      m.mask = svo_mask_lookup(svo_cone_mask_params(nc, v.hbar, r, half_length));
+      // The surface's curvature along the axis, d . dn/dd, for masks that
+      // follow a convex silhouette (cone_mask.glsl); rays have no footprint.
+      // Convex only: where interpolation meets a voxel that knows no
+      // surface (a stand-in normal), the normal turns fast and either way,
+      // and a concave reading would add coverage beside the silhouette
+      // (3 specks instead of 1 in Specks.*); the plane stays the bound.
+      float kappa = 0.0f;
+      bool curved = (params.image.w & SVO_FLAG_CURVED_MASKS) != 0u;
+      if (curved && (mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA) && nl > 0.0f &&
+          r > 1.0e-6f * params.domain.w) {
+        vec3 dn = svo_normal_change(m.lo_cell, p, cone.d, cone.d).d1;
+        if (m.blend > 0.0f) dn = mix(dn, svo_normal_change(m.hi_cell, p, cone.d, cone.d).d1, m.blend);
+        kappa = max(dot(cone.d, dn) / max(nl, 0.5f), 0.0f);
+      }
+      m.mask = svo_mask_lookup(svo_cone_mask_params_curved(nc, v.hbar, r, half_length, kappa));
     }
   }
   m.hit = true;
@@ -622,6 +636,16 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   }
   float nl = length(m.v.n);
   vec3 n = nl > 0.0f ? m.v.n / nl : view;
+  // A surface the eye sees faces it: a mean normal turned away (a thin
+  // part's two faces averaged, the distance field's continuation past a
+  // silhouette) is laid into the silhouette plane, where the visible
+  // normals of a limb are.
+  if ((params.image.w & SVO_FLAG_FRONT_FACING) != 0u && filtered && m.radius > 1.0e-6f * params.domain.w &&
+      dot(n, view) < 0.0f) {
+    vec3 side = n - dot(n, view) * view;
+    float sl = length(side);
+    n = sl > 1.0e-6f ? side / sl : view;
+  }
   SvoFrame f = svo_tangent_frame(n);
   vec3 cov = filtered ? max(m.v.cov, vec3(0.0f, 0.0f, -1.0e30f)) : vec3(0.0f);
   // Principal axes of the slope covariance.

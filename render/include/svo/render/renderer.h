@@ -70,6 +70,12 @@ struct RenderSettings {
   // svo_footprint_slope_covariance); 0 leaves the voxels' statistics alone
   // (the paper's model). In [0, 4].
   float footprint_spread = 0.5f;
+  // Prefiltered and alpha modes: occlusion masks bend with the surface's
+  // curvature along the cone (cone_mask.glsl), and a mean normal turned
+  // away from the eye is laid into the silhouette plane (tracer.glsl,
+  // svo_shade). false: the voxels' mean planes and normals as they are.
+  bool curved_masks = true;
+  bool front_facing = true;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
