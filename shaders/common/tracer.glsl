@@ -531,12 +531,8 @@ SVO_FN SvoVisibility svo_visibility(vec3 p, vec3 l, float dist, float r0, float 
 // disk of radius r across the cone (variance r^2 / 4 per axis); on the mean
 // plane each axis stretches along the ray by 1 / |d.n| (at most
 // 1 / min_cosine), and the interpolated normal changes along it at the rate
-// the lattice gives. Its weight (params.material.w, `svo render
-// --footprint-spread`): 1 is the second-order theory; measured relMSE
-// of the far, mid and close views of the bumpy sphere and the bunny is least
-// near 0.5 (docs/RESULTS.md, "The footprint's normal spread"): a Gaussian's
-// tails reach farther than the bounded spread of normals over a pixel, past
-// the terminator and around glints.
+// the lattice gives. Scaled by params.material.w (`svo render
+// --footprint-spread`, default 1: the second-order theory).
 SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float n_length) {
   const float min_cosine = 0.2f;
   SvoFrame across = svo_tangent_frame(dir);
@@ -582,6 +578,7 @@ struct SvoShade {
 // slope variance 0.02 (tests/reference/detail_test.cpp).
 SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   vec3 dir = -view;
+  vec3 footprint = vec3(0.0f);  // the footprint's half share not in m.v.cov (the specular lobe's)
   bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
   SvoShade s;
   s.steps = 0u;
@@ -611,10 +608,16 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     if (m.blend > 0.0f) {
       a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend), svo_sample_trilinear(m.hi_cell, m.p, parts), m.blend);
     }
-    // Rays (raymarch mode) have no footprint to spread over.
+    // Rays (raymarch mode) have no footprint to spread over. The specular
+    // lobe takes all of the spread, the rest (Lambert, masking) half: a
+    // Gaussian's tails reach farther than the bounded spread of normals
+    // over a pixel, past the terminator, and at the theory's full weight the
+    // far views' relMSE is a quarter higher (docs/RESULTS.md, "The
+    // footprint's normal spread").
     float na = length(a.n);
     if (filtered && params.material.w > 0.0f && na > 0.0f && m.radius > 1.0e-6f * params.domain.w) {
-      a.cov += svo_footprint_slope_covariance(m, dir, a.n / na, na);
+      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na);
+      a.cov += footprint;
     }
     if (detail) {
       // The octaves drawn here leave the statistics: their slope and height
@@ -657,7 +660,10 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   vec2 sn2 = max(vec2(ca * ca * cov.x + 2.0f * ca * sa * cov.z + sa * sa * cov.y,
                       sa * sa * cov.x - 2.0f * ca * sa * cov.z + ca * ca * cov.y),
                  vec2(0.0f));
-  vec2 total = svo_total_slope_variance(sn2, vec2(params.material.x));
+  vec2 lobe = max(vec2(ca * ca * footprint.x + 2.0f * ca * sa * footprint.z + sa * sa * footprint.y,
+                       sa * sa * footprint.x - 2.0f * ca * sa * footprint.z + ca * ca * footprint.y),
+                  vec2(0.0f));
+  vec2 total = svo_total_slope_variance(sn2 + lobe, vec2(params.material.x));
   vec3 vl = vec3(dot(view, tx), dot(view, ty), dot(view, n));
   float lambda_v = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(vl, sn2) : 0.0f;
   vec3 a_view = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v) : m.v.abar;

@@ -61,7 +61,7 @@ void expect_prefiltered_wins(const std::string& name, voxelizer::SurfaceSource& 
   ASSERT_GT(ours.silhouette_pixels, 100u);
   EXPECT_LT(*ours.coverage_error_silhouette, 0.05) << name;
   // What our additions to the paper's model take off relMSE here: the
-  // normals' spread over each cone's footprint 10% (sphere) and 11% (bunny),
+  // normals' spread over each cone's footprint 11% (sphere) and 11% (bunny),
   // then masks curved along the cone with front-facing normals at
   // silhouettes 19% and 40% more; at least 5% and 10%.
   const render::RenderSettings defaults = s;

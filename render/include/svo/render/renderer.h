@@ -67,9 +67,9 @@ struct RenderSettings {
   float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
   // Prefiltered and alpha modes: weight of the normals' spread over each
   // cone's footprint, added to the voxels' slope variance (tracer.glsl,
-  // svo_footprint_slope_covariance); 0 leaves the voxels' statistics alone
-  // (the paper's model). In [0, 4].
-  float footprint_spread = 0.5f;
+  // svo_footprint_slope_covariance): 1 is the second-order theory, 0 leaves
+  // the voxels' statistics alone (the paper's model). In [0, 4].
+  float footprint_spread = 1.0f;
   // Prefiltered and alpha modes: occlusion masks bend with the surface's
   // curvature along the cone (cone_mask.glsl), and a mean normal turned
   // away from the eye is laid into the silhouette plane (tracer.glsl,
