@@ -35,6 +35,7 @@ struct RenderArgs {
   float footprint_spread = render::RenderSettings{}.footprint_spread;
   bool flat_masks = false;
   bool keep_back_facing = false;
+  bool shared_normal = false;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -102,6 +103,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "Shade with mean normals that face away from the eye as they are (default: they are laid into the "
                 "silhouette plane, where a limb's visible normals lie)")
       ->group("Shading");
+  cmd->add_flag("--shared-normal", a->shared_normal,
+                "Shade every element of a cone with the normal where its axis meets the element's mean plane "
+                "(default: cones at least about a finest voxel wide take half of it from each element's centre)")
+      ->group("Shading");
   add_light_options(*cmd, a->view);
 
   auto* device = cmd->add_option("--device", a->device,
@@ -168,6 +173,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
+    settings.element_normals = !a->shared_normal;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
     settings.lights = make_lights(a->view, centre);
@@ -223,6 +229,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"footprint_spread", settings.footprint_spread},
                          {"curved_masks", settings.curved_masks},
                          {"front_facing", settings.front_facing},
+                         {"element_normals", settings.element_normals},
                          {"lights", lights_json(settings.lights)},
                          {"camera", camera_json(settings.camera)},
                          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

@@ -20,6 +20,7 @@ SVO_CONST uint SVO_FLAG_SHADOWS = 1u;
 SVO_CONST uint SVO_FLAG_GBUFFER = 2u;
 SVO_CONST uint SVO_FLAG_CURVED_MASKS = 4u;  // prefiltered and alpha: masks bend with the surface along the cone
 SVO_CONST uint SVO_FLAG_FRONT_FACING = 8u;  // prefiltered and alpha: a mean normal never faces away from the eye
+SVO_CONST uint SVO_FLAG_ELEMENT_NORMALS = 16u;  // prefiltered and alpha: wide cones' elements shade half with their own normal
 
 // Parts of a voxel svo_fetch decodes (tracer.glsl).
 SVO_CONST uint SVO_PART_DISTANCE = 1u;

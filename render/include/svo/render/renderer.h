@@ -76,6 +76,11 @@ struct RenderSettings {
   // svo_shade). false: the voxels' mean planes and normals as they are.
   bool curved_masks = true;
   bool front_facing = true;
+  // Prefiltered and alpha modes: the elements of a cone at least about a
+  // finest voxel wide shade with half the normal at their own centre and
+  // half that at the point all of them share (tracer.glsl, svo_shade).
+  // false: the shared point's alone.
+  bool element_normals = true;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
