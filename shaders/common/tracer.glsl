@@ -566,6 +566,14 @@ SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float 
                               e2 * vec3(s2.x * s2.x, s2.y * s2.y, s2.x * s2.y));
 }
 
+// A slope covariance (xx, yy, xy) along the axes turned by the angle of
+// cosine ca and sine sa: the variances there, floored at 0.
+SVO_FN vec2 svo_principal_variances(vec3 cov, float ca, float sa) {
+  return max(vec2(ca * ca * cov.x + 2.0f * ca * sa * cov.z + sa * sa * cov.y,
+                  sa * sa * cov.x - 2.0f * ca * sa * cov.z + ca * ca * cov.y),
+             vec2(0.0f));
+}
+
 struct SvoShade {
   vec3 radiance;
   vec3 p;                // where the element was shaded (on its mean plane)
@@ -674,12 +682,8 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   float sa = sin(angle);
   vec3 tx = ca * f.t + sa * f.b;
   vec3 ty = ca * f.b - sa * f.t;
-  vec2 sn2 = max(vec2(ca * ca * cov.x + 2.0f * ca * sa * cov.z + sa * sa * cov.y,
-                      sa * sa * cov.x - 2.0f * ca * sa * cov.z + ca * ca * cov.y),
-                 vec2(0.0f));
-  vec2 lobe = max(vec2(ca * ca * footprint.x + 2.0f * ca * sa * footprint.z + sa * sa * footprint.y,
-                       sa * sa * footprint.x - 2.0f * ca * sa * footprint.z + ca * ca * footprint.y),
-                  vec2(0.0f));
+  vec2 sn2 = svo_principal_variances(cov, ca, sa);
+  vec2 lobe = svo_principal_variances(footprint, ca, sa);
   vec2 total = svo_total_slope_variance(sn2 + lobe, vec2(params.material.x));
   vec3 vl = vec3(dot(view, tx), dot(view, ty), dot(view, n));
   float lambda_v = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(vl, sn2) : 0.0f;
