@@ -628,17 +628,18 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     // about a finest voxel (full weight from r = 0.75 voxel) take half their
     // normal from the element's centre, where svo_step found it: relMSE of
     // the far views 0.000289 to 0.000272 (bumpy sphere) and 0.000166 to
-    // 0.000134 (bunny); all of it, the sphere's went up to 0.000362. Finer
-    // cones keep the shared point (their elements' normals would band).
+    // 0.000134 (bunny), before G1 below; all of it, the sphere's went up to
+    // 0.000362. Finer cones keep the shared point (their elements' normals
+    // would band).
     if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
       a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
     }
     // Rays (raymarch mode) have no footprint to spread over. The specular
     // lobe takes all of the spread, the rest (Lambert, masking) half: a
     // Gaussian's tails reach farther than the bounded spread of normals
-    // over a pixel, past the terminator, and at the theory's full weight the
-    // far views' relMSE is a quarter higher (docs/RESULTS.md, "The
-    // footprint's normal spread").
+    // over a pixel, past the terminator (with one weight for every term,
+    // the bumpy sphere's far view was at 0.000345 with 0.5 and 0.000442
+    // with 1; docs/RESULTS.md, "The far view after four additions").
     float na = length(a.n);
     if (filtered && params.material.w > 0.0f && na > 0.0f && m.radius > 1.0e-6f * params.domain.w) {
       footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na);
@@ -721,7 +722,10 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     // convex patch shades nothing of itself). Without it the Lambert term
     // past the terminator lit the fine bumpy sphere's grazing-light region
     // 18% bright (Fig. 11, side light: relMSE 0.118 against 0.033 with it).
-    float lambda_own = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(ll, max(sn2 - lobe, vec2(0.0f))) : 0.0f;
+    float lambda_own = lambda_l;
+    if (mode == SVO_MODE_PREFILTERED && lobe.x + lobe.y > 0.0f) {
+      lambda_own = svo_smith_lambda_dir(ll, max(sn2 - lobe, vec2(0.0f)));
+    }
     vec3 diffuse = a * (lambert / SVO_PI) / (1.0f + lambda_own);
     vec3 specular = vec3(params.material.y * svo_specular_brdf(vl, ll, total) * ndl);
     s.radiance += e * (diffuse + specular) * visible;
