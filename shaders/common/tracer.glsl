@@ -593,6 +593,8 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   vec3 dir = -view;
   vec3 footprint = vec3(0.0f);  // the footprint's half share not in m.v.cov (the specular lobe's)
   bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
+  // A cone with a footprint (rays of raymarch mode have none).
+  bool footprinted = filtered && m.radius > 1.0e-6f * params.domain.w;
   SvoShade s;
   s.steps = 0u;
   if (mode != SVO_MODE_NEAREST) {
@@ -634,14 +636,14 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
       a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
     }
-    // Rays (raymarch mode) have no footprint to spread over. The specular
+    // Only cones have a footprint to spread over. The specular
     // lobe takes all of the spread, the rest (Lambert, masking) half: a
     // Gaussian's tails reach farther than the bounded spread of normals
     // over a pixel, past the terminator (with one weight for every term,
     // the bumpy sphere's far view was at 0.000345 with 0.5 and 0.000442
     // with 1; docs/RESULTS.md, "The far view after four additions").
     float na = length(a.n);
-    if (filtered && params.material.w > 0.0f && na > 0.0f && m.radius > 1.0e-6f * params.domain.w) {
+    if (footprinted && params.material.w > 0.0f && na > 0.0f) {
       footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na);
       a.cov += footprint;
     }
@@ -669,8 +671,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   // part's two faces averaged, the distance field's continuation past a
   // silhouette) is laid into the silhouette plane, where the visible
   // normals of a limb are.
-  if ((params.image.w & SVO_FLAG_FRONT_FACING) != 0u && filtered && m.radius > 1.0e-6f * params.domain.w &&
-      dot(n, view) < 0.0f) {
+  if ((params.image.w & SVO_FLAG_FRONT_FACING) != 0u && footprinted && dot(n, view) < 0.0f) {
     vec3 side = n - dot(n, view) * view;
     float sl = length(side);
     n = sl > 1.0e-6f ? side / sl : view;
