@@ -36,6 +36,8 @@ struct RenderArgs {
   bool flat_masks = false;
   bool keep_back_facing = false;
   bool shared_normal = false;
+  bool shade_at_axis = false;
+  float shading_voxel = 0.5f;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -107,6 +109,17 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "Shade every element of a cone with the normal where its axis meets the element's mean plane "
                 "(default: cones at least about a finest voxel wide take half of it from each element's centre)")
       ->group("Shading");
+  cmd->add_flag("--shade-at-axis", a->shade_at_axis,
+                "Prefiltered: shade every element where the cone's axis meets its mean plane, with the whole "
+                "footprint's spread (default: at the centre of the part of the footprint it covers first, with that "
+                "part's spread)")
+      ->group("Shading");
+  cmd->add_option("--shading-voxel", a->shading_voxel,
+                  "Prefiltered: voxel size of the level shading reads, in cone radii (occlusion reads 1.414, the "
+                  "paper's level; finer, the footprint's spread and parts carry the rest)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.25f, 4.0f))
+      ->group("Shading");
   add_light_options(*cmd, a->view);
 
   auto* device = cmd->add_option("--device", a->device,
@@ -174,6 +187,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
     settings.element_normals = !a->shared_normal;
+    settings.covered_part = !a->shade_at_axis;
+    settings.shading_voxel = a->shading_voxel;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
     settings.lights = make_lights(a->view, centre);
@@ -230,6 +245,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"curved_masks", settings.curved_masks},
                          {"front_facing", settings.front_facing},
                          {"element_normals", settings.element_normals},
+                         {"covered_part", settings.covered_part},
+                         {"shading_voxel", settings.shading_voxel},
                          {"lights", lights_json(settings.lights)},
                          {"camera", camera_json(settings.camera)},
                          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

@@ -37,7 +37,7 @@ Frame render_cpu(const octree::Octree& tree, const RenderSettings& settings) {
   auto start = std::chrono::steady_clock::now();
   const PackedOctree packed = pack_octree(tree);
   svo::math::CpuTracer tracer{make_trace_params(tree, packed, settings), packed.nodes.data(), packed.bricks.data(),
-                              tracer_mask_table().masks.data()};
+                              tracer_mask_buffer().data()};
   Frame frame;
   frame.width = settings.width;
   frame.height = settings.height;

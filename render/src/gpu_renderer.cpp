@@ -32,10 +32,10 @@ class TracePass : public Pass {
         packed_(pack_octree(tree)),
         params_(context, sizeof(TraceParams)),
         nodes_(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2))),
-        masks_(context, tracer_mask_table().masks.size() * sizeof(Mask)),
+        masks_(context, tracer_mask_buffer().size() * sizeof(Mask)),
         addresses_(context, kPoolSlots * sizeof(uint64_t)) {
     std::memcpy(nodes_.data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
-    std::memcpy(masks_.data(), tracer_mask_table().masks.data(), masks_.size());
+    std::memcpy(masks_.data(), tracer_mask_buffer().data(), masks_.size());
     const vk::DeviceInfo& info = context.info();
     const uint64_t all = packed_.brick_count * packed_.brick_bytes + 4;
     auto limited = [&](uint64_t limit) { return options.max_buffer_bytes > 0 ? std::min(limit, options.max_buffer_bytes) : limit; };

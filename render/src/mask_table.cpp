@@ -77,4 +77,22 @@ int popcount(const Mask& m) {
   return std::popcount(m.x) + std::popcount(m.y) + std::popcount(m.z) + std::popcount(m.w);
 }
 
+std::vector<Mask> tracer_buffer(const MaskTable& table) {
+  std::vector<Mask> b = table.masks;
+  auto bits = [](float x) { return std::bit_cast<uint32_t>(x); };
+  glm::vec2 sum(0.0f);
+  glm::vec3 squares(0.0f);
+  for (size_t i = 0; i + 1 < table.points.size(); i += 2) {
+    const glm::vec2 p = table.points[i], q = table.points[i + 1];
+    b.push_back(Mask(bits(p.x), bits(p.y), bits(q.x), bits(q.y)));
+  }
+  for (const glm::vec2& p : table.points) {
+    sum += p;
+    squares += glm::vec3(p.x * p.x, p.y * p.y, p.x * p.y);
+  }
+  b.push_back(Mask(bits(sum.x), bits(sum.y), bits(squares.x), bits(squares.y)));
+  b.push_back(Mask(bits(squares.z), 0u, 0u, 0u));
+  return b;
+}
+
 }  // namespace svo::render

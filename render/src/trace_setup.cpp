@@ -184,6 +184,10 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
     throw std::invalid_argument("footprint spread must be in [0, 4], got " + std::to_string(s.footprint_spread));
   }
   p.material = glm::vec4(tree.sigma_rho2, s.specular, finest, s.footprint_spread);
+  if (!(s.shading_voxel >= 0.25f && s.shading_voxel <= 4.0f)) {
+    throw std::invalid_argument("shading voxel must be in [0.25, 4] cone radii, got " + std::to_string(s.shading_voxel));
+  }
+  p.shading = glm::vec4(s.shading_voxel, 0, 0, 0);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);
   p.ambient = glm::vec4(s.ambient, 0);
   p.background = glm::vec4(s.background, 0);
@@ -191,7 +195,8 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
                        (s.shadows ? svo::math::SVO_FLAG_SHADOWS : 0u) | (s.gbuffer ? svo::math::SVO_FLAG_GBUFFER : 0u) |
                        (s.curved_masks ? svo::math::SVO_FLAG_CURVED_MASKS : 0u) |
                        (s.front_facing ? svo::math::SVO_FLAG_FRONT_FACING : 0u) |
-                       (s.element_normals ? svo::math::SVO_FLAG_ELEMENT_NORMALS : 0u));
+                       (s.element_normals ? svo::math::SVO_FLAG_ELEMENT_NORMALS : 0u) |
+                       (s.covered_part ? svo::math::SVO_FLAG_COVERED_PART : 0u));
   p.tree = glm::uvec4(tree.brick_size, tree.depth_count, s.max_steps, uint32_t(s.lights.size()));
   p.pool = glm::uvec4(packed.brick_bytes, 0, 0, 0);
   p.offsets_a = packed.offsets_a;
@@ -217,6 +222,11 @@ const MaskTable& tracer_mask_table() {
   static const MaskTable table = build_mask_table(poisson_disk(kMaskBits), int(svo::math::SVO_MASK_BINS),
                                                   int(svo::math::SVO_MASK_BINS));
   return table;
+}
+
+const std::vector<Mask>& tracer_mask_buffer() {
+  static const std::vector<Mask> buffer = tracer_buffer(tracer_mask_table());
+  return buffer;
 }
 
 void finish_frame_stats(Frame& frame) {

@@ -16,7 +16,7 @@
 namespace svo::render {
 
 using TraceParams = svo::math::SvoTraceParams;
-static_assert(sizeof(TraceParams) == 27 * 16, "std430 layout: vec4/uvec4 members only");
+static_assert(sizeof(TraceParams) == 28 * 16, "std430 layout: vec4/uvec4 members only");
 
 // The octree as the tracer reads it: nodes as (children, brick) pairs, and
 // every brick's channels one after the other in one record of `brick_bytes`,
@@ -44,6 +44,9 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
 
 // The mask table the tracers use (built once, shared).
 const MaskTable& tracer_mask_table();
+
+// tracer_buffer(tracer_mask_table()), built once.
+const std::vector<Mask>& tracer_mask_buffer();
 
 // Frame statistics from the per-pixel outputs already in `frame`.
 void finish_frame_stats(Frame& frame);

@@ -312,6 +312,57 @@ SVO_FN int svo_popcount(uvec4 m) {
   return c.x + c.y + c.z + c.w;
 }
 
+// Footprint point i of the mask bits (unit disk; render::tracer_mask_buffer
+// stores the points after the table, two to an entry, then their sums).
+SVO_FN vec2 svo_mask_point(uint i) {
+  uvec4 w = svo_mask(SVO_MASK_BINS * SVO_MASK_BINS + (i >> 1u));
+  return (i & 1u) != 0u ? vec2(uintBitsToFloat(w.z), uintBitsToFloat(w.w))
+                        : vec2(uintBitsToFloat(w.x), uintBitsToFloat(w.y));
+}
+
+// The part of the footprint some mask bits stand for, in the unit disk.
+struct SvoFootprintPart {
+  vec2 centre;  // mean of the bits' points
+  vec3 spread;  // their covariance (xx, yy, xy)
+};
+
+// The mean and covariance of the points of the set bits of `bits`: a loop
+// over at most 64 bits, the complement's when more than half are set. All
+// bits or none stand for the whole disk, exactly: centre 0, variance 1/4
+// per axis.
+SVO_FN SvoFootprintPart svo_footprint_part(uvec4 bits) {
+  SvoFootprintPart part;
+  int n = svo_popcount(bits);
+  if (n == 0 || n == 128) {
+    part.centre = vec2(0.0f);
+    part.spread = vec3(0.25f, 0.25f, 0.0f);
+    return part;
+  }
+  bool complement = n > 64;
+  uvec4 b = complement ? ~bits : bits;
+  vec2 s1 = vec2(0.0f);
+  vec3 s2 = vec3(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    uint w = b[k];
+    while (w != 0u) {
+      vec2 q = svo_mask_point(uint(k) * 32u + uint(findLSB(w)));
+      w &= w - 1u;
+      s1 += q;
+      s2 += vec3(q.x * q.x, q.y * q.y, q.x * q.y);
+    }
+  }
+  if (complement) {
+    uvec4 a = svo_mask(SVO_MASK_BINS * SVO_MASK_BINS + 64u);
+    uvec4 c = svo_mask(SVO_MASK_BINS * SVO_MASK_BINS + 65u);
+    s1 = vec2(uintBitsToFloat(a.x), uintBitsToFloat(a.y)) - s1;
+    s2 = vec3(uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(c.x)) - s2;
+  }
+  part.centre = s1 / float(n);
+  part.spread = s2 / float(n) - vec3(part.centre.x * part.centre.x, part.centre.y * part.centre.y,
+                                     part.centre.x * part.centre.y);
+  return part;
+}
+
 // The file's detail octaves (params.detail*).
 SVO_FN SvoDetail svo_trace_detail() {
   SvoDetail d;
@@ -532,13 +583,14 @@ SVO_FN SvoVisibility svo_visibility(vec3 p, vec3 l, float dist, float r0, float 
 // element shades one point, with the statistics of voxels that stop at
 // their own box (or hold none, at the finest level): where the normal field
 // turns across the footprint, a narrow lobe would light all of a pixel or
-// none of it, and a grazing light all of it or none. The footprint is a
-// disk of radius r across the cone (variance r^2 / 4 per axis); on the mean
-// plane each axis stretches along the ray by 1 / |d.n| (at most
-// 1 / min_cosine), and the interpolated normal changes along it at the rate
-// the lattice gives. Scaled by params.material.w (`svo render
-// --footprint-spread`, default 1: the second-order theory).
-SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float n_length) {
+// none of it, and a grazing light all of it or none. `spread` is the
+// covariance of the part of the footprint the element shades, in units of
+// the radius (the whole disk: r^2 / 4 per axis); on the mean plane each axis
+// stretches along the ray by 1 / |d.n| (at most 1 / min_cosine), and the
+// interpolated normal changes along it at the rate the lattice gives.
+// Scaled by params.material.w (`svo render --footprint-spread`, default 1:
+// the second-order theory).
+SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float n_length, vec3 spread) {
   const float min_cosine = 0.2f;
   SvoFrame across = svo_tangent_frame(dir);
   float dn = dot(dir, nh);
@@ -554,16 +606,19 @@ SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float 
     own = mix(own, svo_voxel_spread(m.hi_cell), m.blend);
   }
   // Positional variance along each stretched axis beyond the voxels' own,
-  // per unit of |q|^2 (the derivatives are per unit of q).
-  float r2 = 0.25f * m.radius * m.radius;
-  float e1 = max(r2 * dot(q1, q1) - own, 0.0f) / max(dot(q1, q1), 1.0e-30f);
-  float e2 = max(r2 * dot(q2, q2) - own, 0.0f) / max(dot(q2, q2), 1.0e-30f);
+  // per unit of |q|^2 (the derivatives are per unit of q); the covariance
+  // of the two shrinks with them.
+  vec3 c = m.radius * m.radius * spread;
+  float e1 = max(c.x * dot(q1, q1) - own, 0.0f) / max(dot(q1, q1), 1.0e-30f);
+  float e2 = max(c.y * dot(q2, q2) - own, 0.0f) / max(dot(q2, q2), 1.0e-30f);
+  float e12 = c.x > 0.0f && c.y > 0.0f ? c.z * sqrt(e1 * e2 / (c.x * c.y)) : 0.0f;
   SvoFrame f = svo_tangent_frame(nh);
   float inv = 1.0f / max(n_length, 0.5f);
   vec2 s1 = inv * vec2(dot(g.d1, f.t), dot(g.d1, f.b));
   vec2 s2 = inv * vec2(dot(g.d2, f.t), dot(g.d2, f.b));
   return params.material.w * (e1 * vec3(s1.x * s1.x, s1.y * s1.y, s1.x * s1.y) +
-                              e2 * vec3(s2.x * s2.x, s2.y * s2.y, s2.x * s2.y));
+                              e2 * vec3(s2.x * s2.x, s2.y * s2.y, s2.x * s2.y) +
+                              e12 * vec3(2.0f * s1.x * s2.x, 2.0f * s1.y * s2.y, s1.x * s2.y + s1.y * s2.x));
 }
 
 // A slope covariance (xx, yy, xy) along the axes turned by the angle of
@@ -589,7 +644,7 @@ struct SvoShade {
 // The Lambertian part's l . nbar becomes the mean cosine over the voxel's
 // slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
 // slope variance 0.02 (tests/reference/detail_test.cpp).
-SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
+SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart part) {
   vec3 dir = -view;
   vec3 footprint = vec3(0.0f);  // the footprint's half share not in m.v.cov (the specular lobe's)
   bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
@@ -598,25 +653,51 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
   SvoShade s;
   s.steps = 0u;
   if (mode != SVO_MODE_NEAREST) {
-    // The shading attributes where the cone's axis meets the element's mean
-    // plane, so that the elements of one cone that see the same plane shade
+    // The shading attributes where the ray through the centre of `part`
+    // meets the element's mean plane. For the whole footprint that is the
+    // axis, so that the elements of one cone that see the same plane shade
     // the same point: sampled at each element's centre, a narrow specular
     // lobe would change from element to element and show their boundaries
-    // as bands along the surface's contours.
+    // as bands along the surface's contours. For the part an element
+    // covers first (prefiltered mode), the elements of a grazing cone,
+    // each of which covers a band of the footprint, shade their own bands:
+    // together they integrate the footprint where a tilted surface spans
+    // several elements.
     vec3 n_centre = m.v.n;
     float nl0 = length(m.v.n);
     float reach = 2.0f * max(m.radius, 0.25f * params.material.z);
-    float nd = nl0 > 0.0f ? dot(m.v.n / nl0, dir) : 0.0f;
-    float along = abs(nd) * reach > abs(m.v.hbar) ? -m.v.hbar / nd : (m.v.hbar * nd > 0.0f ? -reach : reach);
-    vec3 ps = m.p + dir * along;
+    vec3 nu = nl0 > 0.0f ? m.v.n / nl0 : vec3(0.0f);
+    float nd = dot(nu, dir);
+    SvoFrame across = svo_tangent_frame(dir);
+    vec3 offset = m.radius * (part.centre.x * across.t + part.centre.y * across.b);
+    float h0 = m.v.hbar + dot(nu, offset);
+    float along = abs(nd) * reach > abs(h0) ? -h0 / nd : (h0 * nd > 0.0f ? -reach : reach);
+    vec3 ps = m.p + offset + dir * along;
+    // Prefiltered mode shades from a finer level than occlusion reads, whose
+    // voxel is params.shading.x cone radii (default 0.5, where occlusion
+    // reads sqrt(2)): the footprint's spread and its parts carry what the
+    // footprint holds beyond that level's voxels, and the coarser level's
+    // box and trilinear tent would blur it twice (docs/RESULTS.md, "Shading
+    // the part of the footprint each element covers"). Occlusion keeps the
+    // coarser level: a finer one would lose surface beside a footprint
+    // whose centre lies in an empty node.
     SvoCell lo = m.lo_cell;
     SvoCell hi = m.hi_cell;
-    if (!svo_cell_holds(lo, ps, lo.depth)) lo = svo_lookup(ps, lo.depth);
-    if (m.blend > 0.0f && !svo_cell_holds(hi, ps, hi.depth)) hi = svo_lookup(ps, hi.depth);
-    if (lo.brick != SVO_ABSENT && (m.blend == 0.0f || hi.brick != SVO_ABSENT)) {
+    uint depth = lo.depth;
+    float blend = m.blend;
+    if (mode == SVO_MODE_PREFILTERED) {
+      float df = clamp(log2(params.domain.w / (float(params.tree.x) * params.shading.x * m.radius)), 0.0f,
+                       float(params.tree.y - 1u));
+      depth = uint(floor(df));
+      blend = df - float(depth);
+    }
+    if (!svo_cell_holds(lo, ps, depth)) lo = svo_lookup(ps, depth);
+    if (blend > 0.0f && !svo_cell_holds(hi, ps, depth + 1u)) hi = svo_lookup(ps, depth + 1u);
+    if (lo.brick != SVO_ABSENT && (blend == 0.0f || hi.brick != SVO_ABSENT)) {
       m.p = ps;
       m.lo_cell = lo;
       m.hi_cell = hi;
+      m.blend = blend;
     }
     bool detail = svo_draws_detail(m.radius);
     uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
@@ -644,7 +725,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode) {
     // with 1; docs/RESULTS.md, "The far view after four additions").
     float na = length(a.n);
     if (footprinted && params.material.w > 0.0f && na > 0.0f) {
-      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na);
+      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, part.spread);
       a.cov += footprint;
     }
     if (detail) {
@@ -783,7 +864,10 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
       weight = float(svo_popcount(fresh)) / 128.0f;
     }
     if (!(weight > 0.0f)) continue;
-    SvoShade s = svo_shade(m, -d, mode);
+    // The element shades the part of the footprint it covers first: the
+    // centre and spread of its fresh bits.
+    bool parts = mode == SVO_MODE_PREFILTERED && (params.image.w & SVO_FLAG_COVERED_PART) != 0u;
+    SvoShade s = svo_shade(m, -d, mode, svo_footprint_part(parts ? fresh : uvec4(0xFFFFFFFFu)));
     steps += s.steps;
     radiance += weight * s.radiance;
     g0 += weight * vec4(dot(s.p - cone.o, d), s.p);

@@ -21,6 +21,7 @@ SVO_CONST uint SVO_FLAG_GBUFFER = 2u;
 SVO_CONST uint SVO_FLAG_CURVED_MASKS = 4u;  // prefiltered and alpha: masks bend with the surface along the cone
 SVO_CONST uint SVO_FLAG_FRONT_FACING = 8u;  // prefiltered and alpha: a mean normal never faces away from the eye
 SVO_CONST uint SVO_FLAG_ELEMENT_NORMALS = 16u;  // prefiltered and alpha: wide cones' elements shade half with their own normal
+SVO_CONST uint SVO_FLAG_COVERED_PART = 32u;  // prefiltered: an element shades the part of the footprint its fresh bits cover
 
 // Parts of a voxel svo_fetch decodes (tracer.glsl).
 SVO_CONST uint SVO_PART_DISTANCE = 1u;
@@ -58,6 +59,7 @@ struct SvoTraceParams {
   uvec4 detail_u;      // x: octaves (0: none); y: seed
   vec4 light_vector[4];    // xyz: direction towards the light, or position; w: 1 point, 0 directional
   vec4 light_radiance[4];  // rgb: irradiance (directional) or intensity (point); w: size
+  vec4 shading;            // x: voxel size of the level prefiltered shading reads, in cone radii; yzw: unused
 };
 
 #endif

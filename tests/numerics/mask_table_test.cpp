@@ -1,12 +1,26 @@
 // The A-buffer mask table (Heitz & Neyret 5.4): its coverage follows the
 // exact covered fraction of the disk, it is monotonic in v, and combining
-// the masks of correlated cone elements does not thicken a silhouette.
+// the masks of correlated cone elements does not thicken a silhouette; the
+// tracer reads the centre and spread of any set of bits exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "common/shared_math.h"
 #include "svo/render/mask_table.h"
+
+namespace svo::math {
+// The tracer's code with the mask buffer alone (no octree).
+struct MaskBufferReader {
+  SvoTraceParams params{};
+  const uvec4* masks;
+  uvec2 svo_node(uint) const { return uvec2(0u); }
+  uint svo_brick_bytes(uint, uint) const { return 0u; }
+  uvec4 svo_mask(uint cell) const { return masks[cell]; }
+#include "common/tracer.glsl"
+};
+}  // namespace svo::math
 
 namespace {
 using namespace svo::render;
@@ -75,4 +89,54 @@ TEST(MaskTable, CorrelatedElementsKeepAHalfCoveredPixelAtOneHalf) {
   EXPECT_GT(opacity, 0.99f);
 }
 
+// svo_footprint_part: the mean and covariance of the points of a set of
+// bits, through both of its paths (the bits' points, the complement's taken
+// from the sums over all), against a direct sum; all bits or none give the
+// disk's exact moments, which the points approach.
+TEST(MaskTable, TheTracerReadsTheCentreAndSpreadOfAnyBits) {
+  const std::vector<Mask> buffer = tracer_buffer(table());
+  ASSERT_EQ(buffer.size(), table().masks.size() + kMaskBits / 2 + 2);
+  svo::math::MaskBufferReader reader;
+  reader.masks = buffer.data();
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (int count = 1; count < kMaskBits; count += 3) {
+    // `count` distinct bits at random.
+    std::vector<int> order(kMaskBits);
+    for (int i = 0; i < kMaskBits; ++i) order[size_t(i)] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    Mask bits(0u);
+    glm::dvec2 mean(0.0);
+    glm::dvec3 second(0.0);
+    for (int k = 0; k < count; ++k) {
+      const int i = order[size_t(k)];
+      bits[i / 32] |= 1u << (i % 32);
+      const glm::dvec2 p = table().points[size_t(i)];
+      mean += p;
+      second += glm::dvec3(p.x * p.x, p.y * p.y, p.x * p.y);
+    }
+    mean /= double(count);
+    second = second / double(count) - glm::dvec3(mean.x * mean.x, mean.y * mean.y, mean.x * mean.y);
+    const auto part = reader.svo_footprint_part(bits);
+    EXPECT_NEAR(part.centre.x, mean.x, 1e-5) << count << " bits";
+    EXPECT_NEAR(part.centre.y, mean.y, 1e-5) << count << " bits";
+    EXPECT_NEAR(part.spread.x, second.x, 1e-5) << count << " bits";
+    EXPECT_NEAR(part.spread.y, second.y, 1e-5) << count << " bits";
+    EXPECT_NEAR(part.spread.z, second.z, 1e-5) << count << " bits";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 43);
+  for (Mask all : {Mask(0u), Mask(~0u)}) {
+    const auto part = reader.svo_footprint_part(all);
+    EXPECT_EQ(part.centre, glm::vec2(0.0f));
+    EXPECT_EQ(part.spread, glm::vec3(0.25f, 0.25f, 0.0f));
+  }
+  // A half-plane's bits: the centre of a half disk lies 4 / (3 pi) from the
+  // middle, on the covered side.
+  const auto half = reader.svo_footprint_part(lookup_mask(table(), 0.0f, 0.0f));
+  EXPECT_NEAR(half.centre.x, -4.0 / (3.0 * M_PI), 0.03);
+  EXPECT_NEAR(half.centre.y, 0.0, 0.03);
+}
+
 }  // namespace
+

@@ -186,6 +186,11 @@ TEST(Tracer, RejectsBadSettingsWithAMessage) {
     s.footprint_spread = spread;
     EXPECT_THROW(render_cpu(tree, s), std::invalid_argument) << spread;
   }
+  s.footprint_spread = 1;
+  for (float voxel : {0.1f, 5.0f, std::nanf("")}) {
+    s.shading_voxel = voxel;
+    EXPECT_THROW(render_cpu(tree, s), std::invalid_argument) << voxel;
+  }
 }
 
 }  // namespace

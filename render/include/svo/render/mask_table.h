@@ -40,4 +40,10 @@ Mask lookup_mask(const MaskTable& table, float theta, float v);
 
 int popcount(const Mask& m);
 
+// The table as the tracers read it (tracer.glsl svo_mask, svo_mask_point):
+// its masks, then its points two to an entry (the bit patterns of x, y, x,
+// y), then the sums over all points of x, y, x^2, y^2 and of x y (one
+// entry and the first word of the next).
+std::vector<Mask> tracer_buffer(const MaskTable& table);
+
 }  // namespace svo::render

@@ -81,6 +81,14 @@ struct RenderSettings {
   // half that at the point all of them share (tracer.glsl, svo_shade).
   // false: the shared point's alone.
   bool element_normals = true;
+  // Prefiltered mode: each element shades the part of the footprint it
+  // covers first, at the centre of its fresh mask bits and with their
+  // spread (tracer.glsl, svo_footprint_part). false: at the cone's axis,
+  // with the whole footprint's spread.
+  bool covered_part = true;
+  // Prefiltered mode: the voxel size, in cone radii, of the level shading
+  // reads (occlusion reads sqrt(2) radii, the paper's level). In [0.25, 4].
+  float shading_voxel = 0.5f;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
