@@ -37,7 +37,7 @@ struct RenderArgs {
   bool keep_back_facing = false;
   bool shared_normal = false;
   bool shade_at_axis = false;
-  float shading_voxel = 0.5f;
+  float shading_voxel = 1.0f;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -115,8 +115,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "part's spread)")
       ->group("Shading");
   cmd->add_option("--shading-voxel", a->shading_voxel,
-                  "Prefiltered: voxel size of the level shading reads, in cone radii (occlusion reads 1.414, the "
-                  "paper's level; finer, the footprint's spread and parts carry the rest)")
+                  "Prefiltered: voxel size of the level shading reads, in cone radii (default 1: its voxels' box and "
+                  "trilinear tent spread as the footprint does; occlusion reads 1.414)")
       ->capture_default_str()
       ->check(CLI::Range(0.25f, 4.0f))
       ->group("Shading");

@@ -673,14 +673,16 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     float h0 = m.v.hbar + dot(nu, offset);
     float along = abs(nd) * reach > abs(h0) ? -h0 / nd : (h0 * nd > 0.0f ? -reach : reach);
     vec3 ps = m.p + offset + dir * along;
-    // Prefiltered mode shades from a finer level than occlusion reads, whose
-    // voxel is params.shading.x cone radii (default 0.5, where occlusion
-    // reads sqrt(2)): the footprint's spread and its parts carry what the
-    // footprint holds beyond that level's voxels, and the coarser level's
-    // box and trilinear tent would blur it twice (docs/RESULTS.md, "Shading
-    // the part of the footprint each element covers"). Occlusion keeps the
-    // coarser level: a finer one would lose surface beside a footprint
-    // whose centre lies in an empty node.
+    // Prefiltered mode shades from a finer level than occlusion reads: the
+    // one whose voxel is params.shading.x cone radii (default 1, where
+    // occlusion reads sqrt(2)). A level's value spreads over its voxel's
+    // box (variance s^2 / 12 per axis) and the trilinear tent (s^2 / 6), in
+    // all s^2 / 4, the footprint disk's r^2 / 4 at s = r; at sqrt(2) r shading
+    // was blurred twice over (docs/RESULTS.md, "Shading the part of the
+    // footprint each element covers"). Finer still, a point sample of the
+    // normal field aliases bumps smaller than the footprint into sparkle
+    // (Fig. 12). Occlusion keeps the coarser level: finer, a footprint
+    // whose centre lies in an empty node loses the surface beside it.
     SvoCell lo = m.lo_cell;
     SvoCell hi = m.hi_cell;
     uint depth = lo.depth;

@@ -87,8 +87,8 @@ struct RenderSettings {
   // with the whole footprint's spread.
   bool covered_part = true;
   // Prefiltered mode: the voxel size, in cone radii, of the level shading
-  // reads (occlusion reads sqrt(2) radii, the paper's level). In [0.25, 4].
-  float shading_voxel = 0.5f;
+  // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
+  float shading_voxel = 1.0f;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
   bool gbuffer = false;  // fill Frame::gbuffer
   bool display = false;  // GPU only: run the display pass and fill Frame::display
