@@ -1,0 +1,219 @@
+// Reading the octree (tracer part 1 of 5; the host contract is in
+// tracer.glsl): the voxel and cell types, decoding a brick's samples,
+// trilinear and nearest sampling, the normal field's change, and the
+// descent from the root to the node holding a point.
+#ifndef SVO_FETCH_GLSL
+#define SVO_FETCH_GLSL
+#include "tracer_params.glsl"
+#include "voxel_codec.glsl"
+
+// A voxel as the renderer uses it.
+struct SvoVoxel {
+  float hbar;  // signed distance to the mean plane, scene units (> 0 outside)
+  float sh2;   // height variance sigma_h^2 (read only to draw detail octaves)
+  vec3 n;      // mean normal (interpolated, not renormalised)
+  vec3 cov;    // slope covariance (xx, yy, xy) in the tangent frame of n
+  vec3 abar;   // mean colour, linear
+  vec3 a_s;    // colour-height correlation
+};
+
+// A cell of the octree at some depth: the brick that covers it, or an empty
+// region (brick SVO_ABSENT) known to hold no surface at that depth.
+struct SvoCell {
+  uint brick;
+  uint depth;  // the depth asked for (SVO_ABSENT: no cell yet)
+  vec3 lo;     // lower corner of the node's box (of the empty region for an empty cell)
+  float size;
+};
+
+SVO_FN float svo_voxel_size(uint depth) {
+  return params.domain.w / float(params.tree.x << depth);
+}
+
+// The fractional level whose voxel is `voxel` (scene units), clamped to the
+// stored levels: its floor is the level, its fraction the blend with the
+// next finer one.
+SVO_FN float svo_level_of_voxel(float voxel) {
+  return clamp(log2(params.domain.w / (float(params.tree.x) * voxel)), 0.0f, float(params.tree.y - 1u));
+}
+
+SVO_FN uint svo_byte(uint brick, uint offset) {
+  return svo_brick_bytes(brick, offset) & 255u;
+}
+
+// What svo_fetch decodes: most cone elements need the distance only, the
+// mask needs the normal too, and only elements that reach the pixel need the
+// shading attributes.
+// (SVO_PART_* in tracer_params.glsl.)
+// Sample s of a brick; fields outside `parts` are zero.
+SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
+  SvoVoxel v;
+  v.hbar = 0.0f;
+  v.sh2 = 0.0f;
+  v.n = vec3(0.0f);
+  v.cov = vec3(0.0f);
+  v.abar = vec3(0.0f);
+  v.a_s = vec3(0.0f);
+  if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
+  if ((parts & SVO_PART_HEIGHT) != 0u && params.offsets_a.z != SVO_ABSENT) {
+    // Relative to the voxel size unless stored as f32 (svo_sample_trilinear scales it).
+    float sh = params.encodings.x == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
+                   : svo_decode_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
+    v.sh2 = sh * sh;
+  }
+  if ((parts & SVO_PART_NORMAL) == 0u) return v;
+  v.n = vec3(0.0f, 0.0f, 1.0f);
+  if (params.offsets_a.y != SVO_ABSENT) {
+    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
+  }
+  if ((parts & SVO_PART_SHADING) == 0u) return v;
+  if (params.offsets_b.x != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
+    float sx = svo_decode_u8_log_slope(b & 255u);
+    float sy = svo_decode_u8_log_slope((b >> 8u) & 255u);
+    float rho = svo_decode_s8((b >> 16u) & 255u);
+    v.cov = vec3(sx * sx, sy * sy, rho * sx * sy);
+  } else if (params.offsets_a.w != SVO_ABSENT) {
+    float sd = params.encodings.y == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
+                   : svo_decode_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
+    v.cov = vec3(sd * sd, sd * sd, 0.0f);
+  }
+  v.abar = vec3(params.constant_colour);
+  if (params.offsets_b.y != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
+    v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
+  }
+  if (params.offsets_b.z != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
+    v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
+  }
+  return v;
+}
+
+// a + w b, field by field.
+SVO_FN SvoVoxel svo_voxel_madd(SvoVoxel a, SvoVoxel b, float w) {
+  SvoVoxel r;
+  r.hbar = a.hbar + w * b.hbar;
+  r.sh2 = a.sh2 + w * b.sh2;
+  r.n = a.n + w * b.n;
+  r.cov = a.cov + w * b.cov;
+  r.abar = a.abar + w * b.abar;
+  r.a_s = a.a_s + w * b.a_s;
+  return r;
+}
+
+SVO_FN SvoVoxel svo_voxel_scaled(SvoVoxel a, float w) {
+  SvoVoxel r;
+  r.hbar = w * a.hbar;
+  r.sh2 = w * a.sh2;
+  r.n = w * a.n;
+  r.cov = w * a.cov;
+  r.abar = w * a.abar;
+  r.a_s = w * a.a_s;
+  return r;
+}
+
+// Lattice coordinates of p in the brick of `cell`, in [0, B].
+SVO_FN vec3 svo_local(SvoCell cell, vec3 p) {
+  float B = float(params.tree.x);
+  return clamp((p - cell.lo) / cell.size * B, vec3(0.0f), vec3(B));
+}
+
+SVO_FN uint svo_sample_index(uvec3 i) {
+  uint S = params.tree.x + 1u;
+  return (i.z * S + i.y) * S + i.x;
+}
+
+// Trilinear interpolation of the brick's lattice at p.
+SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
+  vec3 c = svo_local(cell, p);
+  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
+  vec3 f = c - i0f;
+  uvec3 i0 = uvec3(i0f);
+  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
+  for (uint k = 1u; k < 8u; ++k) {
+    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
+    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
+    r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
+  }
+  if (params.encodings.x != SVO_ENC_F32) {
+    float voxel = cell.size / float(params.tree.x);
+    r.sh2 *= voxel * voxel;
+  }
+  return r;
+}
+
+// How the trilinearly interpolated normal of a level changes along world
+// directions q1 and q2 at p: the derivatives of the interpolation weights
+// applied to the cell's 8 unit normals.
+struct SvoNormalChange {
+  vec3 d1;
+  vec3 d2;
+};
+SVO_FN SvoNormalChange svo_normal_change(SvoCell cell, vec3 p, vec3 q1, vec3 q2) {
+  vec3 c = svo_local(cell, p);
+  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
+  vec3 f = c - i0f;
+  uvec3 i0 = uvec3(i0f);
+  float inv_voxel = float(params.tree.x) / cell.size;
+  SvoNormalChange r;
+  r.d1 = vec3(0.0f);
+  r.d2 = vec3(0.0f);
+  for (uint k = 0u; k < 8u; ++k) {
+    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
+    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
+    vec3 dw = mix(vec3(-1.0f), vec3(1.0f), vec3(o));
+    vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+    vec3 n = svo_fetch(cell.brick, svo_sample_index(i0 + o), SVO_PART_NORMAL).n;
+    r.d1 += dot(grad, q1) * n;
+    r.d2 += dot(grad, q2) * n;
+  }
+  return r;
+}
+
+// Slope variance a level's voxel already holds along the surface: the
+// spread over its box footprint (s^2 / 12 per axis); none at the finest
+// level, whose voxels store zero variances.
+SVO_FN float svo_voxel_spread(SvoCell cell) {
+  float s = cell.size / float(params.tree.x);
+  return cell.depth + 1u >= params.tree.y ? 0.0f : s * s / 12.0f;
+}
+
+// The lattice point nearest to p (binary-voxel baseline).
+SVO_FN SvoVoxel svo_sample_nearest(SvoCell cell, vec3 p) {
+  return svo_fetch(cell.brick, svo_sample_index(uvec3(floor(svo_local(cell, p) + 0.5f))),
+                   SVO_PART_DISTANCE | SVO_PART_NORMAL | SVO_PART_SHADING);
+}
+
+// Descends from the root to the node of `depth` holding p; stops at the
+// first missing node or brick and returns that node's box as empty.
+SVO_FN SvoCell svo_lookup(vec3 p, uint depth) {
+  vec3 q = clamp((p - vec3(params.domain)) / params.domain.w, vec3(0.0f), vec3(0.99999994f));
+  SvoCell c;
+  c.depth = depth;
+  c.lo = vec3(params.domain);
+  c.size = params.domain.w;
+  uvec2 node = svo_node(0u);
+  c.brick = node.y;
+  for (uint k = 1u; k <= depth && c.brick != SVO_ABSENT; ++k) {
+    uvec3 cell = uvec3(q * float(1u << k));
+    c.size = params.domain.w / float(1u << k);
+    c.lo = vec3(params.domain) + vec3(cell) * c.size;
+    if (node.x == SVO_ABSENT) {
+      c.brick = SVO_ABSENT;
+    } else {
+      uvec3 bit = cell & uvec3(1u);
+      node = svo_node(node.x + bit.x + 2u * bit.y + 4u * bit.z);
+      c.brick = node.y;
+    }
+  }
+  return c;
+}
+
+SVO_FN bool svo_cell_holds(SvoCell c, vec3 p, uint depth) {
+  return c.depth == depth && all(greaterThanEqual(p, c.lo)) && all(lessThan(p, c.lo + c.size));
+}
+
+#endif

@@ -1,0 +1,254 @@
+// Shading a cone element (tracer part 5 of 5, paper Eq. 13 with the Eq. 17
+// attribute): the footprint's normal spread, the principal slope variances,
+// and the sum over lights with Smith masking and visibility cones.
+#ifndef SVO_SHADING_GLSL
+#define SVO_SHADING_GLSL
+#include "beckmann.glsl"
+#include "smith.glsl"
+#include "trig.glsl"
+#include "visibility.glsl"
+
+// The normals' spread over the part of the surface the cone's footprint
+// covers, as slope covariance (xx, yy, xy) in the tangent frame of the unit
+// mean normal nh (n_length: the interpolated normal's length). A cone
+// element shades one point, with the statistics of voxels that stop at
+// their own box (or hold none, at the finest level): where the normal field
+// turns across the footprint, a narrow lobe would light all of a pixel or
+// none of it, and a grazing light all of it or none. `spread` is the
+// covariance of the part of the footprint the element shades, in units of
+// the radius (the whole disk: r^2 / 4 per axis); on the mean plane each axis
+// stretches along the ray by 1 / |d.n| (at most 1 / min_cosine), and the
+// interpolated normal changes along it at the rate the lattice gives.
+// Scaled by params.material.w (`svo render --footprint-spread`, default 1:
+// the second-order theory).
+SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float n_length, vec3 spread) {
+  const float min_cosine = 0.2f;
+  SvoFrame across = svo_tangent_frame(dir);
+  float dn = dot(dir, nh);
+  dn = dn >= 0.0f ? max(dn, min_cosine) : min(dn, -min_cosine);
+  vec3 q1 = across.t - (dot(across.t, nh) / dn) * dir;
+  vec3 q2 = across.b - (dot(across.b, nh) / dn) * dir;
+  SvoNormalChange g = svo_normal_change(m.lo_cell, m.p, q1, q2);
+  float own = svo_voxel_spread(m.lo_cell);
+  if (m.blend > 0.0f) {
+    SvoNormalChange gh = svo_normal_change(m.hi_cell, m.p, q1, q2);
+    g.d1 = mix(g.d1, gh.d1, m.blend);
+    g.d2 = mix(g.d2, gh.d2, m.blend);
+    own = mix(own, svo_voxel_spread(m.hi_cell), m.blend);
+  }
+  // Positional variance along each stretched axis beyond the voxels' own,
+  // per unit of |q|^2 (the derivatives are per unit of q); the covariance
+  // of the two shrinks with them.
+  vec3 c = m.radius * m.radius * spread;
+  float e1 = max(c.x * dot(q1, q1) - own, 0.0f) / max(dot(q1, q1), 1.0e-30f);
+  float e2 = max(c.y * dot(q2, q2) - own, 0.0f) / max(dot(q2, q2), 1.0e-30f);
+  float e12 = c.x > 0.0f && c.y > 0.0f ? c.z * sqrt(e1 * e2 / (c.x * c.y)) : 0.0f;
+  SvoFrame f = svo_tangent_frame(nh);
+  float inv = 1.0f / max(n_length, 0.5f);
+  vec2 s1 = inv * vec2(dot(g.d1, f.t), dot(g.d1, f.b));
+  vec2 s2 = inv * vec2(dot(g.d2, f.t), dot(g.d2, f.b));
+  return params.material.w * (e1 * vec3(s1.x * s1.x, s1.y * s1.y, s1.x * s1.y) +
+                              e2 * vec3(s2.x * s2.x, s2.y * s2.y, s2.x * s2.y) +
+                              e12 * vec3(2.0f * s1.x * s2.x, 2.0f * s1.y * s2.y, s1.x * s2.y + s1.y * s2.x));
+}
+
+// A slope covariance (xx, yy, xy) along the axes turned by the angle of
+// cosine ca and sine sa: the variances there, floored at 0.
+SVO_FN vec2 svo_principal_variances(vec3 cov, float ca, float sa) {
+  return max(vec2(ca * ca * cov.x + 2.0f * ca * sa * cov.z + sa * sa * cov.y,
+                  sa * sa * cov.x - 2.0f * ca * sa * cov.z + ca * ca * cov.y),
+             vec2(0.0f));
+}
+
+struct SvoShade {
+  vec3 radiance;
+  vec3 p;                // where the element was shaded (on its mean plane)
+  vec3 abar;             // colour seen from the camera (Eq. 17 with the view alone in prefiltered mode)
+  vec3 n;                // unit mean normal
+  float slope_variance;  // mean of the total per-axis variances
+  uint steps;            // shadow cone elements
+};
+
+// Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
+// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
+// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
+// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
+// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
+// slope variance 0.02 (tests/reference/detail_test.cpp).
+SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart part) {
+  vec3 dir = -view;
+  vec3 footprint = vec3(0.0f);  // the footprint's half share not in m.v.cov (the specular lobe's)
+  bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
+  // A cone with a footprint (rays of raymarch mode have none).
+  bool footprinted = filtered && m.radius > 1.0e-6f * params.domain.w;
+  SvoShade s;
+  s.steps = 0u;
+  if (mode != SVO_MODE_NEAREST) {
+    // The shading attributes where the ray through the centre of `part`
+    // meets the element's mean plane. For the whole footprint that is the
+    // axis, so that the elements of one cone that see the same plane shade
+    // the same point: sampled at each element's centre, a narrow specular
+    // lobe would change from element to element and show their boundaries
+    // as bands along the surface's contours. For the part an element
+    // covers first (prefiltered mode), the elements of a grazing cone,
+    // each of which covers a band of the footprint, shade their own bands:
+    // together they integrate the footprint where a tilted surface spans
+    // several elements.
+    vec3 n_centre = m.v.n;
+    float nl0 = length(m.v.n);
+    float reach = 2.0f * max(m.radius, 0.25f * params.material.z);
+    vec3 nu = nl0 > 0.0f ? m.v.n / nl0 : vec3(0.0f);
+    float nd = dot(nu, dir);
+    SvoFrame across = svo_tangent_frame(dir);
+    vec3 offset = m.radius * (part.centre.x * across.t + part.centre.y * across.b);
+    float h0 = m.v.hbar + dot(nu, offset);
+    float along = abs(nd) * reach > abs(h0) ? -h0 / nd : (h0 * nd > 0.0f ? -reach : reach);
+    vec3 ps = m.p + offset + dir * along;
+    // Prefiltered mode shades from a finer level than occlusion reads: the
+    // one whose voxel is params.shading.x cone radii (default 1, where
+    // occlusion reads sqrt(2)). A level's value spreads over its voxel's
+    // box (variance s^2 / 12 per axis) and the trilinear tent (s^2 / 6), in
+    // all s^2 / 4, the footprint disk's r^2 / 4 at s = r; at sqrt(2) r shading
+    // was blurred twice over (docs/RESULTS.md, "Shading the part of the
+    // footprint each element covers"). Finer still, a point sample of the
+    // normal field aliases bumps smaller than the footprint into sparkle
+    // (Fig. 12). Occlusion keeps the coarser level: finer, a footprint
+    // whose centre lies in an empty node loses the surface beside it.
+    SvoCell lo = m.lo_cell;
+    SvoCell hi = m.hi_cell;
+    uint depth = lo.depth;
+    float blend = m.blend;
+    if (mode == SVO_MODE_PREFILTERED) {
+      float df = svo_level_of_voxel(params.shading.x * m.radius);
+      depth = uint(floor(df));
+      blend = df - float(depth);
+    }
+    if (!svo_cell_holds(lo, ps, depth)) lo = svo_lookup(ps, depth);
+    if (blend > 0.0f && !svo_cell_holds(hi, ps, depth + 1u)) hi = svo_lookup(ps, depth + 1u);
+    if (lo.brick != SVO_ABSENT && (blend == 0.0f || hi.brick != SVO_ABSENT)) {
+      m.p = ps;
+      m.lo_cell = lo;
+      m.hi_cell = hi;
+      m.blend = blend;
+    }
+    bool detail = svo_draws_detail(m.radius);
+    uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
+    SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, parts);
+    if (m.blend > 0.0f) {
+      a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend), svo_sample_trilinear(m.hi_cell, m.p, parts), m.blend);
+    }
+    // A cone's elements see different parts of a wide footprint: along a
+    // grazing cone each element's bits are where the surface meets it, near
+    // its own centre, not at the point the elements share. Cones of at least
+    // about a finest voxel (full weight from r = 0.75 voxel) take half their
+    // normal from the element's centre, where svo_step found it: relMSE of
+    // the far views 0.000289 to 0.000272 (bumpy sphere) and 0.000166 to
+    // 0.000134 (bunny), before G1 below; all of it, the sphere's went up to
+    // 0.000362. Finer cones keep the shared point (their elements' normals
+    // would band).
+    if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
+      a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
+    }
+    // Only cones have a footprint to spread over. The specular
+    // lobe takes all of the spread, the rest (Lambert, masking) half: a
+    // Gaussian's tails reach farther than the bounded spread of normals
+    // over a pixel, past the terminator (with one weight for every term,
+    // the bumpy sphere's far view was at 0.000345 with 0.5 and 0.000442
+    // with 1; docs/RESULTS.md, "The far view after four additions").
+    float na = length(a.n);
+    if (footprinted && params.material.w > 0.0f && na > 0.0f) {
+      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, part.spread);
+      a.cov += footprint;
+    }
+    if (detail) {
+      // The octaves drawn here leave the statistics: their slope and height
+      // variances and their share of the colour-height covariance; the
+      // colour follows the drawn height instead (detail.glsl).
+      SvoDetail d = svo_trace_detail();
+      vec4 g = svo_detail_displacement(d, m.p, m.radius, params.detail_colour.w);
+      vec2 moved = svo_detail_moved_variance(d, m.radius, params.detail_colour.w);
+      vec3 slope = vec3(params.detail_colour);
+      a.n = svo_detail_tilt(a.n, vec3(g));
+      a.cov -= vec3(moved.y, moved.y, 0.0f);
+      a.a_s = svo_detail_fold_a_s(a.a_s, a.sh2, -moved.x, slope);
+      a.abar += slope * g.w;
+    }
+    m.v.n = a.n;
+    m.v.cov = a.cov;
+    m.v.abar = a.abar;
+    m.v.a_s = a.a_s;
+  }
+  float nl = length(m.v.n);
+  vec3 n = nl > 0.0f ? m.v.n / nl : view;
+  // A surface the eye sees faces it: a mean normal turned away (a thin
+  // part's two faces averaged, the distance field's continuation past a
+  // silhouette) is laid into the silhouette plane, where the visible
+  // normals of a limb are.
+  if ((params.image.w & SVO_FLAG_FRONT_FACING) != 0u && footprinted && dot(n, view) < 0.0f) {
+    vec3 side = n - dot(n, view) * view;
+    float sl = length(side);
+    n = sl > 1.0e-6f ? side / sl : view;
+  }
+  SvoFrame f = svo_tangent_frame(n);
+  vec3 cov = filtered ? max(m.v.cov, vec3(0.0f, 0.0f, -1.0e30f)) : vec3(0.0f);
+  // Principal axes of the slope covariance.
+  float angle = 0.5f * svo_atan2(2.0f * cov.z, cov.x - cov.y);
+  float ca = cos(angle);
+  float sa = sin(angle);
+  vec3 tx = ca * f.t + sa * f.b;
+  vec3 ty = ca * f.b - sa * f.t;
+  vec2 sn2 = svo_principal_variances(cov, ca, sa);
+  vec2 lobe = svo_principal_variances(footprint, ca, sa);
+  vec2 total = svo_total_slope_variance(sn2 + lobe, vec2(params.material.x));
+  vec3 vl = vec3(dot(view, tx), dot(view, ty), dot(view, n));
+  float lambda_v = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(vl, sn2) : 0.0f;
+  vec3 a_view = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v) : m.v.abar;
+  s.radiance = vec3(params.ambient) * a_view;
+  for (uint i = 0u; i < params.tree.w; ++i) {
+    vec4 lv = params.light_vector[i];
+    vec4 lr = params.light_radiance[i];
+    vec3 l = vec3(lv);
+    vec3 e = vec3(lr);
+    float dist = 3.0e38f;
+    if (lv.w > 0.5f) {
+      vec3 to = vec3(lv) - m.p;
+      dist = length(to);
+      l = to / max(dist, 1.0e-30f);
+      e = vec3(lr) / max(dist * dist, 1.0e-30f);
+    }
+    float ndl = dot(n, l);
+    vec3 ll = vec3(dot(l, tx), dot(l, ty), ndl);
+    // Lambert over the voxel's micro-slopes (beckmann.glsl; l.n with none):
+    // past the mean plane's terminator, the facets still facing the light.
+    float lambert = svo_rough_lambert(vl, ll, sn2);
+    if (!(ndl > 0.0f) && !(lambert > 0.0f)) continue;
+    float visible = 1.0f;
+    if ((params.image.w & SVO_FLAG_SHADOWS) != 0u) {
+      float spread = lv.w > 0.5f ? lr.w / max(dist, 1.0e-30f) : tan(lr.w);
+      SvoVisibility vis = svo_visibility(m.p, l, dist, m.radius, spread, ndl, mode);
+      visible = vis.visible;
+      s.steps += vis.steps;
+    }
+    float lambda_l = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(ll, sn2) : 0.0f;
+    vec3 a = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v + lambda_l) : m.v.abar;
+    // The facets that face a grazing light shade one another: Smith's G1(l)
+    // over the voxel's own slopes (not the footprint's spread: a smooth
+    // convex patch shades nothing of itself). Without it the Lambert term
+    // past the terminator lit the fine bumpy sphere's grazing-light region
+    // 18% bright (Fig. 11, side light: relMSE 0.118 against 0.033 with it).
+    float lambda_own = lambda_l;
+    if (mode == SVO_MODE_PREFILTERED && lobe.x + lobe.y > 0.0f) {
+      lambda_own = svo_smith_lambda_dir(ll, max(sn2 - lobe, vec2(0.0f)));
+    }
+    vec3 diffuse = a * (lambert / SVO_PI) / (1.0f + lambda_own);
+    vec3 specular = vec3(params.material.y * svo_specular_brdf(vl, ll, total) * ndl);
+    s.radiance += e * (diffuse + specular) * visible;
+  }
+  s.abar = a_view;
+  s.p = m.p;
+  s.n = n;
+  s.slope_variance = 0.5f * (total.x + total.y);
+  return s;
+}
+
+#endif
