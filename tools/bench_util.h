@@ -78,7 +78,7 @@ inline render::Frame strip(const std::vector<std::vector<const render::Frame*>>&
 // The engine's colour in the material bench (paper Fig. 9): the mean over
 // the covered pixels of one prefiltered cone per pixel, the view 4 pixels
 // high, at `degrees`.
-inline glm::vec3 engine_material_colour(render::GpuRenderer& gpu, float degrees,
+inline glm::vec3 engine_material_colour(render::Renderer& gpu, float degrees,
                                         const reference::MaterialOptions& options) {
   render::Frame f = gpu.render(reference::material_view(degrees, 4, options));
   glm::dvec3 sum(0);

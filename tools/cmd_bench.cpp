@@ -138,10 +138,8 @@ void run_speed_error(const SpeedErrorArgs& a) {
     geometry = reference::mesh_geometry(voxelizer::read_mesh(a.source.input, mesh_options(a.source)));
   }
 
-  vk::ContextOptions co;
-  co.device = a.device;
-  vk::Context context(co);
-  render::GpuRenderer gpu(context, tree);
+  std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
+  render::Renderer& gpu = *renderer;
   const std::vector<Method> methods = {
       {"prefiltered", render::Mode::Prefiltered, 1}, {"nearest", render::Mode::Nearest, 1},
       {"alpha", render::Mode::Alpha, 1},             {"mip", render::Mode::Mip, 1},
@@ -172,7 +170,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
       render::Frame f;
       for (uint32_t r = 0; r < std::max(1u, a.repeats); ++r) {
         f = gpu.render(s);
-        ms.push_back(f.gpu_ms >= 0 ? f.gpu_ms : f.wall_ms);
+        ms.push_back(render::frame_ms(f));
       }
       std::sort(ms.begin(), ms.end());
       render::write_colour((dir / (view + "-" + m.name + ".png")).string(), f);
@@ -224,7 +222,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
   j["resolution"] = a.resolution;
   j["size"] = a.size;
   j["reference_spp"] = a.reference_spp;
-  j["device"] = context.info().name;
+  j["device"] = gpu.device_name();
   j["headline"] = headline;
   j["rows"] = nlohmann::json::array();
   for (const auto& r : rows) {
@@ -236,7 +234,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
   std::ofstream(dir / "results.json") << j.dump(2) << "\n";
   std::ostringstream md;
   md << "Source " << source_name(a.source) << " at " << a.resolution << "^3, " << a.size << "x" << a.size
-     << ", reference " << a.reference_spp << " spp, device " << context.info().name << ", median of " << a.repeats
+     << ", reference " << a.reference_spp << " spp, device " << gpu.device_name() << ", median of " << a.repeats
      << " frames.\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
@@ -289,10 +287,8 @@ void run_material(const MaterialArgs& a) {
   vo.resolution = a.resolution;
   vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, 0.5 + 0.4 * f); };
   octree::Octree tree = voxelizer::voxelize(field, vo);
-  vk::ContextOptions co;
-  co.device = a.device;
-  vk::Context context(co);
-  render::GpuRenderer gpu(context, tree);
+  std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
+  render::Renderer& gpu = *renderer;
   std::ofstream csv(dir / "material.csv");
   csv << "degrees,truth_r,truth_g,truth_b,eq17_r,eq17_g,eq17_b,mip_r,mip_g,mip_b,engine_r,engine_g,engine_b\n";
   std::ostringstream md;
@@ -338,7 +334,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       ->default_val(3)
       ->check(CLI::Range(1u, 100u));
   se->add_flag("--shadows", a->shadows, "Soft shadows in every method and in the ground truth");
-  se->add_option("--device", a->device, "Vulkan device: index or name substring (see svo devices)");
+  se->add_option("--device", a->device, kDeviceHelp);
   se->add_option("-o,--out", a->out, "Output directory (created)")->default_val("bench-speed-error");
   se->callback([a, &exit_code] {
     run_speed_error(*a);
@@ -361,7 +357,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(16u, 2048u));
   mat->add_option("--size", m->size, "Ground-truth image height, pixels")->default_val(64)->check(CLI::Range(4u, 1024u));
   mat->add_option("--spp", m->spp, "Ground-truth samples per pixel")->default_val(4)->check(CLI::Range(1u, 4096u));
-  mat->add_option("--device", m->device, "Vulkan device: index or name substring (see svo devices)");
+  mat->add_option("--device", m->device, kDeviceHelp);
   mat->add_option("-o,--out", m->out, "Output directory (created)")->default_val("bench-material");
   auto hm = std::make_shared<HeightmapMaterialArgs>();
   add_heightmap_material_options(*mat, *hm);

@@ -22,6 +22,7 @@
 #include <tuple>
 
 #include "bench_util.h"
+#include "commands.h"
 #include "progress.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
@@ -71,7 +72,7 @@ void add_figure_options(CLI::App& cmd, FigureArgs& a, uint32_t resolution, uint3
         ->default_str("120,200")
         ->check(CLI::Range(1.0f, 2000.0f));
   }
-  cmd.add_option("--device", a.device, "Vulkan device: index or name substring (see svo devices)");
+  cmd.add_option("--device", a.device, kDeviceHelp);
   cmd.add_option("-o,--out", a.out, "Output directory (created)")->default_val(out);
 }
 
@@ -79,8 +80,7 @@ void add_figure_options(CLI::App& cmd, FigureArgs& a, uint32_t resolution, uint3
 struct Setup {
   std::unique_ptr<reference::Geometry> geometry;
   octree::Octree tree;
-  std::unique_ptr<vk::Context> context;
-  std::unique_ptr<render::GpuRenderer> gpu;
+  std::unique_ptr<render::Renderer> gpu;
 };
 
 Setup make_setup(voxelizer::AnalyticScene& scene, const FigureArgs& a, ProgressBar& bar) {
@@ -90,10 +90,7 @@ Setup make_setup(voxelizer::AnalyticScene& scene, const FigureArgs& a, ProgressB
   vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, f); };
   s.tree = voxelizer::voxelize(scene, vo);
   s.geometry = reference::scene_geometry(scene);
-  vk::ContextOptions co;
-  co.device = a.device;
-  s.context = std::make_unique<vk::Context>(co);
-  s.gpu = std::make_unique<render::GpuRenderer>(*s.context, s.tree);
+  s.gpu = render::make_renderer(s.tree, {a.device});
   return s;
 }
 
@@ -316,7 +313,7 @@ void run_fig11(const FigureArgs& a, float sphere_pixels) {
                    {"spp", a.spp},
                    {"sphere_pixels", sphere_pixels},
                    {"frequency", a.frequency},
-                   {"device", setup.context->info().name},
+                   {"device", setup.gpu->device_name()},
                    {"rows", jrows},
                    {"claims", claims}});
   std::cout << md.str();
@@ -431,7 +428,7 @@ void run_fig12(const FigureArgs& a, float roughness, float specular) {
                    {"roughness", roughness},
                    {"specular", specular},
                    {"frequency", a.frequency},
-                   {"device", setup.context->info().name},
+                   {"device", setup.gpu->device_name()},
                    {"rows", jrows},
                    {"claims", claims}});
   std::cout << md.str();
@@ -538,7 +535,7 @@ void run_fig4(const FigureArgs& a, const std::string& scene_name, std::vector<fl
                    {"spp", a.spp},
                    {"focus", focus},
                    {"fov_deg", camera.fov_deg},
-                   {"device", setup.context->info().name},
+                   {"device", setup.gpu->device_name()},
                    {"rows", jrows},
                    {"claims", claims}});
   std::cout << md.str();

@@ -88,10 +88,8 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
   vo.resolution = resolution;
   vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, 0.5 + 0.4 * f); };
   octree::Octree tree = voxelizer::voxelize(field, vo);
-  vk::ContextOptions co;
-  co.device = device;
-  vk::Context context(co);
-  render::GpuRenderer gpu(context, tree);
+  std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {device});
+  render::Renderer& gpu = *renderer;
 
   const auto rel = bench::relative_error;
   std::ofstream csv(dir / "material.csv");
@@ -151,7 +149,7 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
                    {"resolution", resolution},
                    {"size", size},
                    {"spp", spp},
-                   {"device", context.info().name},
+                   {"device", gpu.device_name()},
                    {"max_error", {{"eq17", worst17}, {"mip", worst_mip}, {"engine", worst_engine}}},
                    {"rows", rows}};
   std::ofstream(dir / "material.json") << j.dump(2) << "\n";

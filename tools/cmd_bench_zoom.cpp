@@ -138,10 +138,8 @@ void run_zoom(const ZoomArgs& a) {
   settings.height = a.view.height;
   settings.shadows = a.view.shadows;
   settings.lights = make_lights(a.view, tree.origin + glm::vec3(0.5f * tree.size));
-  vk::ContextOptions co;
-  co.device = a.device;
-  vk::Context context(co);
-  render::GpuRenderer gpu(context, tree);
+  std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
+  render::Renderer& gpu = *renderer;
 
   // --- Frames: ours, the ground truth, the figures.
   ProgressBar bar("bench zoom");
@@ -166,7 +164,7 @@ void run_zoom(const ZoomArgs& a) {
     row.frame = f;
     row.view_width = render::view_width(cameras[f]);
     row.zoom = first_width / row.view_width;
-    row.ms = ours.gpu_ms >= 0 ? ours.gpu_ms : ours.wall_ms;
+    row.ms = render::frame_ms(ours);
     row.reference_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (f > 0) {
       row.change = mean_abs_difference(ours, previous);
@@ -240,7 +238,7 @@ void run_zoom(const ZoomArgs& a) {
   j["height"] = settings.height;
   j["spp"] = a.spp;
   j["zoom"] = first_width / render::view_width(cameras.back());
-  j["device"] = context.info().name;
+  j["device"] = gpu.device_name();
   j["change_mean"] = change_sum / steps;
   j["change_reference_mean"] = change_truth_sum / steps;
   j["change_ratio_of_means"] = change_truth_sum > 0 ? change_sum / change_truth_sum : 0.0;
@@ -275,7 +273,7 @@ void run_zoom(const ZoomArgs& a) {
   std::ostringstream md;
   md << "Octree " << a.octree << " (" << file_bytes << " bytes), ground truth of " << source_name(a.source) << " at "
      << a.spp << " spp; " << n << " frames " << settings.width << "x" << settings.height << ", zoom "
-     << fmt(first_width / render::view_width(cameras.back()), 0) << "; device " << context.info().name << ".\n\n"
+     << fmt(first_width / render::view_width(cameras.back()), 0) << "; device " << gpu.device_name() << ".\n\n"
      << "| frame | zoom | change, prefiltered | change, ground truth | ratio | centre colour, prefiltered | centre "
         "colour, ground truth | colour shift | relMSE |\n|---|---|---|---|---|---|---|---|---|\n";
   auto rgb = [](glm::dvec3 c) { return fmt(c.r, 4) + " " + fmt(c.g, 4) + " " + fmt(c.b, 4); };
@@ -332,7 +330,7 @@ void add_bench_zoom_command(CLI::App& bench, int& exit_code) {
       ->default_val(1)
       ->group("Sampling");
   add_light_options(*cmd, a->view);
-  cmd->add_option("--device", a->device, "Vulkan device: index or name substring (see svo devices)")->group("Device");
+  cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
   cmd->callback([a, &exit_code] {
     run_zoom(*a);
     exit_code = 0;

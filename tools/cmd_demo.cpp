@@ -41,8 +41,7 @@ void add_demo_command(CLI::App& app, int& exit_code) {
       ->default_val(256)
       ->check(CLI::IsMember({32u, 64u, 128u, 256u, 512u, 1024u}));
   cmd->add_option("--size", a->size, "Image width and height, pixels")->default_val(512)->check(CLI::Range(16u, 4096u));
-  cmd->add_option("--device", a->device,
-                  "Vulkan device: index or name substring (default: discrete > integrated > cpu; see svo devices)");
+  cmd->add_option("--device", a->device, kDeviceHelp);
   cmd->add_flag("--json", a->json, "Print one JSON object on stdout instead of text");
   cmd->callback([a, &exit_code] {
     const std::string far_path = (std::filesystem::path(a->directory) / "svo-demo.png").string();
@@ -65,8 +64,8 @@ void add_demo_command(CLI::App& app, int& exit_code) {
     }
 
     auto setup_start = std::chrono::steady_clock::now();
-    vk::Context context({a->device, false});
-    render::GpuRenderer renderer(context, tree);
+    std::unique_ptr<render::Renderer> made = render::make_renderer(tree, {a->device});
+    render::Renderer& renderer = *made;
     const double setup_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setup_start).count();
     nlohmann::json views = nlohmann::json::array();
@@ -77,7 +76,7 @@ void add_demo_command(CLI::App& app, int& exit_code) {
       render::Frame frame = renderer.render(settings);
       render::write_colour(path, frame);
       const bool gpu_timed = frame.gpu_ms >= 0;
-      const double ms = gpu_timed ? frame.gpu_ms : frame.wall_ms;
+      const double ms = render::frame_ms(frame);
       const double us = frame.covered_pixels > 0 ? ms * 1000.0 / double(frame.covered_pixels) : 0.0;
       views.push_back({{"view", name},
                        {"output", path},
@@ -89,7 +88,7 @@ void add_demo_command(CLI::App& app, int& exit_code) {
                        {"steps_per_pixel", frame.steps_per_pixel}});
       if (!a->json) {
         std::cout << std::setprecision(1) << name << ": " << a->size << "x" << a->size << " in " << ms << " ms "
-                  << (gpu_timed ? "GPU" : "wall") << " (" << frame.wall_ms << " ms wall), " << std::setprecision(3)
+                  << (gpu_timed ? "GPU" : renderer.host() == render::Host::Native ? "native" : "wall") << " (" << frame.wall_ms << " ms wall), " << std::setprecision(3)
                   << us << " us per covered pixel, " << std::setprecision(1) << frame.steps_per_pixel
                   << " steps/pixel -> " << path << "\n";
       }
@@ -100,12 +99,13 @@ void add_demo_command(CLI::App& app, int& exit_code) {
                          {"size", a->size},
                          {"voxelize_seconds", report.seconds_total},
                          {"bricks", tree.brick_count},
-                         {"device", context.info().name},
+                         {"device", renderer.device_name()},
+                         {"device_type", renderer.device_type()},
                          {"setup_ms", setup_ms},
                          {"views", views}};
       std::cout << out.dump() << "\n";
     } else {
-      std::cout << "device: " << context.info().name << " (" << context.info().type << "), setup "
+      std::cout << "device: " << renderer.device_name() << " (" << renderer.device_type() << "), setup "
                 << std::setprecision(1) << setup_ms << " ms\n";
     }
     exit_code = 0;

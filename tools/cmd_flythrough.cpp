@@ -108,8 +108,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->default_val(1)
       ->check(CLI::Range(1u, 100u))
       ->group("Timing");
-  cmd->add_option("--device", a->device, "Vulkan device: index or name substring (see svo devices)")->group("Device");
-  cmd->add_flag("--validate", a->validate, "Enable the Khronos validation layer; any message fails the command")
+  cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
+  cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command")
       ->group("Device");
 
   cmd->callback([a, &exit_code] {
@@ -145,8 +145,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     settings.shadows = a->view.shadows;
     settings.lights = make_lights(a->view, tree.origin + glm::vec3(0.5f * tree.size));
     settings.gbuffer = true;  // the depths give the levels used
-    vk::Context context({a->device, a->validate});
-    render::GpuRenderer renderer(context, tree);
+    std::unique_ptr<render::Renderer> made = render::make_renderer(tree, {a->device, a->validate});
+    render::Renderer& renderer = *made;
 
     // --- Frames.
     ProgressBar bar("flythrough");
@@ -161,7 +161,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       render::Frame frame;
       for (uint32_t r = 0; r < a->repeats; ++r) {
         frame = renderer.render(settings);
-        times.push_back(frame.gpu_ms >= 0 ? frame.gpu_ms : frame.wall_ms);
+        times.push_back(render::frame_ms(frame));
       }
       std::sort(times.begin(), times.end());
       render::write_colour((dir / frame_name(f)).string(), frame);
@@ -229,7 +229,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       hi = any ? std::max(hi, r.us_per_covered_pixel) : r.us_per_covered_pixel;
       any = true;
     }
-    const std::vector<std::string> messages = context.validation_messages();
+    const std::vector<std::string> messages = renderer.validation_messages();
     if (a->json) {
       nlohmann::json out{{"file", a->input},
                          {"file_bytes", file_bytes},
@@ -246,7 +246,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
                          {"us_per_covered_pixel_ratio", any && lo > 0 ? nlohmann::json(hi / lo) : nlohmann::json(nullptr)},
                          {"finest_level", tree.depth_count - 1},
                          {"level_target_last", rows.back().level_target},
-                         {"device", context.info().name},
+                         {"device", renderer.device_name()},
+                         {"device_type", renderer.device_type()},
                          {"video", a->video.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->video)},
                          {"validation_messages", messages}};
       std::cout << out.dump() << "\n";
@@ -254,12 +255,12 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->out << ": " << rows.size()
                 << " frames " << settings.width << "x" << settings.height << " " << render::mode_name(*mode)
                 << ", zoom " << first_width / render::view_width(cameras.back()) << ", " << total_ms
-                << " ms GPU in all";
+                << " ms " << (renderer.host() == render::Host::Native ? "native" : "GPU") << " in all";
       if (any) {
         std::cout << std::setprecision(3) << ", us per covered pixel " << lo << " to " << hi << " (ratio "
                   << std::setprecision(2) << (lo > 0 ? hi / lo : 0.0) << ")";
       }
-      std::cout << ", " << context.info().name << "\n";
+      std::cout << ", " << renderer.device_name() << "\n";
     }
     if (!messages.empty()) {
       for (const auto& m : messages) std::cerr << "validation: " << m << "\n";

@@ -2,6 +2,7 @@
 // Algorithm 1) to PNG or EXR, with an optional G-buffer and timing figures.
 // Every argument and both output paths are checked before the octree is
 // loaded or a device is opened; bad input is one line and exit code 1.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -29,6 +30,7 @@ struct RenderArgs {
   std::string gbuffer;
   std::string steps;
   std::string save_camera;
+  std::vector<std::string> aovs;  // NAME=FILE.exr
   ViewOptions view;
   std::string mode = "prefiltered";
   uint32_t spp = 1;
@@ -74,9 +76,13 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   cmd->add_option("--save-camera", a->save_camera, "Also write the camera used as JSON (the form of --camera-file)")
       ->group("Output");
+  cmd->add_option("--aov", a->aovs,
+                  "Also write the frame's image NAME as a float .exr, NAME=FILE.exr (repeatable): colour, background "
+                  "(the background's share of colour), gbuffer (every G-buffer field), steps, display")
+      ->group("Output");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: width, height, ms, wall_ms, covered_pixels, us_per_pixel, "
-                "steps_per_pixel, mode, view, device, ...")
+                "steps_per_pixel, mode, view, device, device_type, passes (name and ms of each), ...")
       ->group("Output");
 
   add_camera_options(*cmd, a->view);
@@ -122,17 +128,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Shading");
   add_light_options(*cmd, a->view);
 
-  auto* device = cmd->add_option("--device", a->device,
-                                 "Vulkan device: index or name substring (default: discrete > integrated > cpu; see "
-                                 "svo devices)")
-                     ->group("Device");
+  auto* device = cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
   auto* validate =
-      cmd->add_flag("--validate", a->validate, "Enable the Khronos validation layer; any message fails the command")
+      cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command")
           ->group("Device");
-  cmd->add_flag("--cpu", a->cpu, "Trace on the CPU (the reference implementation of the same tracer; slow)")
-      ->excludes(device)
-      ->excludes(validate)
-      ->group("Device");
+  cmd->add_flag("--cpu", a->cpu, "The same as --device native")->excludes(device)->excludes(validate)->group("Device");
 
   cmd->add_option("--max-memory", a->max_memory_mb,
                   "Refuse a frame whose host memory estimate is above this, MiB (default: available memory)")
@@ -157,12 +157,29 @@ void add_render_command(CLI::App& app, int& exit_code) {
       render::check_writable_output(path);
     }
     if (!a->save_camera.empty()) render::check_writable_output(a->save_camera);
+    std::vector<std::pair<std::string, std::string>> aovs;  // (image, path)
+    for (const std::string& aov : a->aovs) {
+      const size_t eq = aov.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == aov.size()) {
+        throw std::invalid_argument("--aov '" + aov + "': expected NAME=FILE.exr");
+      }
+      aovs.emplace_back(aov.substr(0, eq), aov.substr(eq + 1));
+      if (render::image_format(aovs.back().second) != render::ImageFormat::Exr) {
+        throw std::invalid_argument(aovs.back().second + ": --aov images are written as OpenEXR only (use .exr)");
+      }
+      render::check_writable_output(aovs.back().second);
+    }
     // The frame on the host: colour (16 bytes a pixel), steps (4), the
     // file's copy (up to 16), the G-buffer and its file's copy (2 x 48), the
     // steps image's copy (4).
     {
       const double pixels = double(a->view.width) * double(a->view.height);
-      const double mib = pixels * (16 + 4 + 16 + (a->gbuffer.empty() ? 0 : 96) + (a->steps.empty() ? 0 : 4)) / (1024.0 * 1024.0);
+      const bool gbuffer = !a->gbuffer.empty() || std::any_of(aovs.begin(), aovs.end(), [](const auto& x) {
+        return x.first == "gbuffer";
+      });
+      const double mib = pixels * (16 + 16 + 4 + 16 + (gbuffer ? 2 * 4 * 21 : 0) + (a->steps.empty() ? 0 : 4) +
+                                   16.0 * double(aovs.size())) /
+                         (1024.0 * 1024.0);
       const double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
       if (limit > 0 && mib > limit) {
         throw std::runtime_error("a " + std::to_string(a->view.width) + "x" + std::to_string(a->view.height) +
@@ -191,36 +208,44 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.shading_voxel = a->shading_voxel;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
+    for (const auto& [name, path] : aovs) {
+      settings.gbuffer = settings.gbuffer || name == "gbuffer";
+      settings.display = settings.display || name == "display";
+    }
     settings.lights = make_lights(a->view, centre);
 
     // --- Render.
-    render::Frame frame;
-    std::string device_name = "cpu (render_cpu)", device_type = "cpu";
-    std::vector<std::string> messages;
-    double setup_ms = 0;
-    if (a->cpu) {
-      frame = render::render_cpu(tree, settings);
-    } else {
-      auto setup_start = std::chrono::steady_clock::now();
-      vk::Context context({a->device, a->validate});
-      render::GpuRenderer renderer(context, tree);
-      setup_ms = elapsed_ms(setup_start);
-      frame = renderer.render(settings);
-      device_name = context.info().name;
-      device_type = context.info().type;
-      messages = context.validation_messages();
+    auto setup_start = std::chrono::steady_clock::now();
+    std::unique_ptr<render::Renderer> renderer =
+        render::make_renderer(tree, {a->cpu ? "native" : a->device, a->validate});
+    const double setup_ms = elapsed_ms(setup_start);
+    {
+      const std::vector<std::string> names = renderer->image_names();
+      for (const auto& [name, path] : aovs) {
+        if (std::find(names.begin(), names.end(), name) == names.end()) {
+          std::string list;
+          for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+          throw std::invalid_argument("--aov: the frame has no image '" + name + "' (images: " + list + ")");
+        }
+      }
     }
+    const render::Frame frame = renderer->render(settings);
+    const std::vector<std::string> messages = renderer->validation_messages();
 
     // --- Outputs (written even when validation complained, so that the frame can be inspected).
     render::write_colour(a->output, frame);
     if (!a->gbuffer.empty()) render::write_gbuffer(a->gbuffer, frame);
     if (!a->steps.empty()) render::write_steps(a->steps, frame);
     if (!a->save_camera.empty()) render::save_camera_json(a->save_camera, settings.camera);
+    for (const auto& [name, path] : aovs) render::write_aov(path, *renderer, name);
 
     const bool gpu_timed = frame.gpu_ms >= 0;
-    const double ms = gpu_timed ? frame.gpu_ms : frame.wall_ms;
+    const double ms = render::frame_ms(frame);
+    const char* timed_by = gpu_timed ? "GPU" : renderer->host() == render::Host::Native ? "native" : "wall";
     // Per covered pixel (DESIGN section 9); -1 when nothing is covered.
     const double us_per_pixel = frame.covered_pixels > 0 ? ms * 1000.0 / double(frame.covered_pixels) : -1.0;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const auto& p : frame.passes) passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
     if (a->json) {
       nlohmann::json out{{"file", a->input},
                          {"output", a->output},
@@ -229,10 +254,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"mode", render::mode_name(*mode)},
                          {"spp", a->spp},
                          {"view", view_name},
-                         {"device", device_name},
-                         {"device_type", device_type},
+                         {"device", renderer->device_name()},
+                         {"device_type", renderer->device_type()},
+                         {"host", render::host_name(renderer->host())},
                          {"ms", ms},
                          {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
+                         {"passes", passes},
                          {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
                          {"wall_ms", frame.wall_ms},
                          {"load_ms", load_ms},
@@ -255,14 +282,15 @@ void add_render_command(CLI::App& app, int& exit_code) {
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->output << ": " << frame.width << "x"
                 << frame.height << " " << render::mode_name(*mode) << ", view " << view_name << ", " << ms << " ms "
-                << (gpu_timed ? "GPU" : "wall") << " (" << frame.wall_ms << " ms wall), ";
+                << timed_by << " (" << frame.wall_ms << " ms wall), ";
       if (us_per_pixel >= 0) {
         std::cout << std::setprecision(3) << us_per_pixel << " us per covered pixel (" << frame.covered_pixels
                   << " covered)";
       } else {
         std::cout << "no pixel covered";
       }
-      std::cout << ", " << std::setprecision(1) << frame.steps_per_pixel << " steps/pixel, " << device_name << "\n";
+      std::cout << ", " << std::setprecision(1) << frame.steps_per_pixel << " steps/pixel, " << renderer->device_name()
+                << "\n";
     }
     if (!messages.empty()) {
       for (const auto& m : messages) std::cerr << "validation: " << m << "\n";

@@ -42,7 +42,8 @@ const char* kControls =
     "Controls: left-drag orbit, right- or middle-drag pan, wheel or +/- zoom (by factors: deep zoom works),\n"
     "F orbit around the surface under the cursor, 1-4 mode (prefiltered, nearest, alpha, mip),\n"
     "S shadows on/off, R back to the far view, Esc or Q quit.\n"
-    "The title shows the mode, the GPU time of the trace and the wall time of the frame.";
+    "The title shows the mode, the time of the passes (GPU timestamps, or the native host's) and the wall time\n"
+    "of the frame. Without a GPU, frames are rendered natively on the CPU and presented through lavapipe.";
 
 std::string format_ms(double ms) {
   char text[32];
@@ -62,8 +63,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
   window->add_option("--height", opt->height, "Window height in pixels")->default_val(600)->check(CLI::Range(16, 8192));
   window
       ->add_option("--scale", opt->scale,
-                   "Render at this fraction of the window size and stretch it (default: 1 on a GPU, 0.5 on a CPU "
-                   "device such as lavapipe)")
+                   "Render at this fraction of the window size and stretch it (default: 1 on a GPU, 0.5 on the "
+                   "native host or a Vulkan CPU device such as lavapipe)")
       ->check(CLI::Range(0.05, 1.0));
   auto* view = cmd->add_option_group("View");
   view->add_option("--view", opt->view, "Starting camera preset: far, mid or close")
@@ -74,9 +75,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"prefiltered", "nearest", "alpha", "mip"}));
   view->add_flag("--shadows", opt->shadows, "Start with shadow cones on");
   auto* run = cmd->add_option_group("Run");
-  run->add_option(
-      "--device", opt->device,
-      "Vulkan device: index or name substring (default: the best device that can present; see svo devices)");
+  run->add_option("--device", opt->device,
+                  std::string(kDeviceHelp) + ". Frames rendered natively are shown through the Vulkan device that "
+                  "can present (lavapipe on a machine without a GPU)");
   run->add_flag("--validate", opt->validate,
                 "Enable the Khronos validation layer; any message ends the viewer with exit 1");
   run->add_option("--frames", opt->frames, "Render this many frames, then exit 0 (for tests; default 0: until closed)")
@@ -97,7 +98,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
     } catch (const std::exception& e) {
       fail(e.what());
     }
-    vk::ContextOptions options{opt->device, opt->validate};
+    // The host that renders; the window presents through a Vulkan device
+    // either way (the one rendering, or the default one that can present).
+    const std::string device = render::resolve_device(opt->device);
+    const bool native = device == "native";
+    vk::ContextOptions options{native ? "" : device, opt->validate};
     win->prepare(options);
     vk::Context context(options);
     auto check_validation = [&] {
@@ -110,8 +115,14 @@ void add_view_command(CLI::App& app, int& exit_code) {
     uint32_t fb_width = 0, fb_height = 0;
     win->framebuffer_size(fb_width, fb_height);
     vk::Swapchain swapchain(context, fb_width, fb_height);
-    render::GpuRenderer renderer(context, tree);
-    double scale = opt->scale > 0 ? opt->scale : context.info().type == "cpu" ? 0.5 : 1.0;
+    std::unique_ptr<render::Renderer> made;
+    if (native) {
+      made = std::make_unique<render::NativeRenderer>(tree);
+    } else {
+      made = std::make_unique<render::GpuRenderer>(context, tree);
+    }
+    render::Renderer& renderer = *made;
+    double scale = opt->scale > 0 ? opt->scale : native || context.info().type == "cpu" ? 0.5 : 1.0;
 
     render::RenderSettings settings;
     settings.mode = *render::parse_mode(opt->mode);
@@ -213,8 +224,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
         double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::ostringstream title;
         title << "svo view " << opt->path << " | " << render::mode_name(settings.mode)
-              << (settings.shadows ? " + shadows" : "") << " | GPU "
-              << (frame.gpu_ms >= 0 ? format_ms(frame.gpu_ms) + " ms" : "n/a") << ", frame " << format_ms(wall_ms)
+              << (settings.shadows ? " + shadows" : "") << " | " << (native ? "native " : "GPU ")
+              << (frame.ms >= 0 ? format_ms(frame.ms) + " ms" : "n/a") << ", frame " << format_ms(wall_ms)
               << " ms | " << frame.width << "x" << frame.height;
         win->set_title(title.str());
         dirty = false;

@@ -7,6 +7,12 @@
 
 namespace svo::tools {
 
+// The help of every --device option.
+inline constexpr const char* kDeviceHelp =
+    "Where to render: native (the CPU, the tracer compiled as C++), or a Vulkan device by index or name substring "
+    "(e.g. llvmpipe, Vulkan on the CPU, for tests). Default: a discrete GPU, then an integrated one, then native; "
+    "see svo devices";
+
 void add_bench_command(CLI::App& app, int& exit_code);
 // svo bench zoom, registered on the bench subcommand by add_bench_command.
 void add_bench_zoom_command(CLI::App& bench, int& exit_code);

@@ -5,9 +5,11 @@
 #include <stdexcept>
 #include <string>
 
+// The Vulkan host: the octree's pools on the device and the trace pass as a
+// compute kernel (shaders/render/trace_main.glsl).
 #include "svo/render/renderer.h"
 #include "svo/render/vk_compute.h"
-#include "display.comp.spv.h"
+#include "common/shared_math.h"
 #include "trace_address.comp.spv.h"
 #include "trace_single.comp.spv.h"
 #include "trace_switch.comp.spv.h"
@@ -23,7 +25,8 @@ constexpr uint32_t kRaysPerDispatch = 16;  // raymarch: rays per pixel in one di
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-// The cone tracer as the first pass: writes "colour", "gbuffer", "steps".
+// The cone tracer as the first pass: writes "colour", "background",
+// "gbuffer" (when the settings ask for it) and "steps".
 class TracePass : public Pass {
  public:
   TracePass(vk::Context& context, const octree::Octree& tree, const GpuRenderer::Options& options)
@@ -33,7 +36,8 @@ class TracePass : public Pass {
         params_(context, sizeof(TraceParams)),
         nodes_(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2))),
         masks_(context, tracer_mask_buffer().size() * sizeof(Mask)),
-        addresses_(context, kPoolSlots * sizeof(uint64_t)) {
+        addresses_(context, kPoolSlots * sizeof(uint64_t)),
+        no_gbuffer_(context, 16) {
     std::memcpy(nodes_.data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
     std::memcpy(masks_.data(), tracer_mask_buffer().data(), masks_.size());
     const vk::DeviceInfo& info = context.info();
@@ -75,31 +79,39 @@ class TracePass : public Pass {
     }
     pool_bytes_ += nodes_.size() + masks_.size();
     if (access_ == std::string("single")) {
-      kernel_.emplace(context, svo_spv_trace_single_comp, 7, 0);
+      kernel_.emplace(context, svo_spv_trace_single_comp, 8, 0);
     } else if (address) {
-      kernel_.emplace(context, svo_spv_trace_address_comp, 7, 0);
+      kernel_.emplace(context, svo_spv_trace_address_comp, 8, 0);
     } else {
-      kernel_.emplace(context, svo_spv_trace_switch_comp, 6 + kPoolSlots, 0);
+      kernel_.emplace(context, svo_spv_trace_switch_comp, 7 + kPoolSlots, 0);
     }
   }
 
   std::string name() const override { return "trace"; }
-  std::vector<std::string> reads() const override { return {}; }
-  std::vector<std::string> writes() const override { return {"colour", "gbuffer", "steps"}; }
+  std::vector<ImageDesc> reads() const override { return {}; }
+  std::vector<ImageDesc> writes() const override {
+    return {colour_image(), background_image(), gbuffer_image(), steps_image()};
+  }
 
-  double run(FrameImages& images, const RenderSettings& settings) override {
+  double run(PassContext& ctx) override {
+    const RenderSettings& settings = ctx.settings;
+    FrameImages& images = ctx.images;
     TraceParams p = make_trace_params(tree_, packed_, settings);
     p.pool.y = bricks_per_slot_;
     const uint64_t limit = context_.info().max_storage_buffer_range;
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
-    if (pixels * 3 * sizeof(glm::vec4) > limit) {
+    // The largest image the kernel binds must fit one storage buffer.
+    const uint64_t largest = pixels * texel_bytes(settings.gbuffer ? TexelFormat::GBuffer : TexelFormat::Rgba32f);
+    if (largest > limit) {
       throw std::invalid_argument("a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                                  " G-buffer exceeds the device's maxStorageBufferRange of " + mib(limit));
+                                  (settings.gbuffer ? " G-buffer" : " colour image") +
+                                  " exceeds the device's maxStorageBufferRange of " + mib(limit));
     }
     std::memcpy(params_.data(), &p, sizeof p);
-    std::vector<const vk::Buffer*> bound{&params_, &nodes_, &masks_, &images.image("colour", sizeof(glm::vec4)),
-                                         &images.image("gbuffer", 3 * sizeof(glm::vec4)),
-                                         &images.image("steps", sizeof(uint32_t))};
+    auto buffer = [&](const ImageDesc& desc) -> vk::Buffer* { return images.write(desc).buffer(); };
+    std::vector<const vk::Buffer*> bound{&params_, &nodes_, &masks_, buffer(colour_image()),
+                                         settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
+                                         buffer(steps_image()), buffer(background_image())};
     if (access_ == std::string("address")) {
       bound.push_back(&addresses_);
     } else {
@@ -115,8 +127,18 @@ class TracePass : public Pass {
     const uint32_t n = uint32_t(p.lens.w);
     const uint32_t rows = settings.mode == Mode::RayMarch ? std::max(1u, kRaysPerDispatch / n) : n;
     if (rows >= n) return kernel_->dispatch(bound, nullptr, gx, gy);
-    std::vector<glm::vec4> colour(pixels, glm::vec4(0)), g(settings.gbuffer ? 3 * pixels : 0, glm::vec4(0));
+    // Sums over the dispatches: colour and background weighted by the
+    // share of rays, the G-buffer by coverage too (gbuffer.glsl).
+    using svo::math::SvoGBuffer;
+    constexpr size_t n4 = svo::math::SVO_GBUFFER_VEC4S;
+    std::vector<glm::vec4> colour(pixels, glm::vec4(0)), background(pixels, glm::vec4(0));
+    std::vector<SvoGBuffer> g(settings.gbuffer ? pixels : 0, svo::math::svo_gbuffer_empty());
+    std::vector<float> covered(g.size(), 0.0f);
     std::vector<uint32_t> steps(pixels, 0);
+    auto c = images.texels<glm::vec4>(images.read(colour_image()));
+    auto bg = images.texels<glm::vec4>(images.read(background_image()));
+    auto st = images.texels<uint32_t>(images.read(steps_image()));
+    auto gb = settings.gbuffer ? images.texels<glm::vec4>(images.read(gbuffer_image())) : std::span<glm::vec4>();
     double ms = 0;
     for (uint32_t first = 0; first < n; first += rows) {
       p.lens.z = float(first);
@@ -125,32 +147,26 @@ class TracePass : public Pass {
       double part = kernel_->dispatch(bound, nullptr, gx, gy);
       ms = part < 0 || ms < 0 ? -1 : ms + part;
       const float w = p.lens.w / float(n);
-      auto c = images.existing("colour").as<glm::vec4>();
-      auto st = images.existing("steps").as<uint32_t>();
-      auto gb = images.existing("gbuffer").as<glm::vec4>();
       for (size_t i = 0; i < pixels; ++i) {
         colour[i] += w * c[i];
+        background[i] += w * bg[i];
         steps[i] += st[i];
         if (settings.gbuffer) {
-          // G-buffer fields are coverage-weighted averages.
-          const float cw = w * c[i].a;
-          g[3 * i] += cw * gb[3 * i];
-          g[3 * i + 1] += cw * gb[3 * i + 1];
-          g[3 * i + 2] += glm::vec4(cw * glm::vec3(gb[3 * i + 2]), 0.0f);
+          const glm::vec4* t = &gb[n4 * i];
+          SvoGBuffer part_g = svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]);
+          g[i] = svo::math::svo_gbuffer_madd(g[i], part_g, w * part_g.coverage);
+          covered[i] += w * part_g.coverage;
         }
       }
     }
-    auto c = images.existing("colour").as<glm::vec4>();
-    auto st = images.existing("steps").as<uint32_t>();
-    auto gb = images.existing("gbuffer").as<glm::vec4>();
     for (size_t i = 0; i < pixels; ++i) {
       c[i] = colour[i];
+      bg[i] = background[i];
       st[i] = steps[i];
       if (settings.gbuffer) {
-        const float inv = colour[i].a > 0 ? 1.0f / colour[i].a : 0.0f;
-        gb[3 * i] = inv * g[3 * i];
-        gb[3 * i + 1] = inv * g[3 * i + 1];
-        gb[3 * i + 2] = glm::vec4(inv * glm::vec3(g[3 * i + 2]), colour[i].a);
+        g[i].coverage = covered[i];
+        SvoGBuffer done = svo::math::svo_gbuffer_finish(g[i], covered[i]);
+        for (uint32_t k = 0; k < n4; ++k) gb[n4 * i + k] = svo::math::svo_gbuffer_pack(done, k);
       }
     }
     return ms;
@@ -167,6 +183,7 @@ class TracePass : public Pass {
   uint32_t bricks_per_slot_ = 1;
   vk::Buffer params_, nodes_, masks_;
   vk::Buffer addresses_;  // device address of each pool buffer (the "address" kernel)
+  vk::Buffer no_gbuffer_;  // bound in the G-buffer's place when the settings do not ask for it
   const char* access_ = "single";
   std::vector<vk::Buffer> pools_;
   std::optional<vk::ComputeKernel> kernel_;  // created once the number of pool buffers is known
@@ -175,116 +192,35 @@ class TracePass : public Pass {
 
 }  // namespace
 
-void FrameImages::resize(uint32_t width, uint32_t height) {
-  if (width != width_ || height != height_) images_.clear();
-  width_ = width;
-  height_ = height;
-}
-
-vk::Buffer& FrameImages::image(const std::string& name, std::size_t texel_bytes) {
-  const size_t bytes = std::max<size_t>(4, size_t(width_) * height_ * texel_bytes);
-  auto it = images_.find(name);
-  if (it != images_.end() && it->second.size() == bytes) return it->second;
-  if (it != images_.end()) images_.erase(it);
-  return images_.emplace(name, vk::Buffer(context_, bytes)).first->second;
-}
-
-vk::Buffer& FrameImages::existing(const std::string& name) {
-  auto it = images_.find(name);
-  if (it == images_.end()) throw std::invalid_argument("frame image '" + name + "' does not exist");
-  return it->second;
-}
-
-DisplayPass::DisplayPass(vk::Context& context) : kernel_(context, svo_spv_display_comp, 2, sizeof(uint32_t)) {}
-
-double DisplayPass::run(FrameImages& images, const RenderSettings&) {
-  const uint32_t count = images.width() * images.height();
-  const vk::Buffer* bound[] = {&images.existing("colour"), &images.image("display", sizeof(uint32_t))};
-  return kernel_.dispatch(bound, &count, (count + 63) / 64);
-}
-
-struct GpuRenderer::Impl {
-  vk::Context& context;
-  TracePass* trace;  // passes.front()
-  std::vector<std::unique_ptr<Pass>> passes;
-  std::vector<std::string> written;  // images the chain writes so far
-  DisplayPass display;
-  FrameImages images;
-
-  Impl(vk::Context& c, const octree::Octree& t, const Options& options) : context(c), display(c), images(c) {
-    auto tp = std::make_unique<TracePass>(c, t, options);
-    trace = tp.get();
-    add(std::move(tp));
-    // Drivers may compile a pipeline at its first dispatch (lavapipe takes
-    // about a second): do it here, so that frame times are frame times.
-    RenderSettings warm_up;
-    warm_up.width = warm_up.height = 1;
-    warm_up.camera.eye = t.origin - glm::vec3(t.size);
-    warm_up.camera.target = t.origin + 0.5f * glm::vec3(t.size);
-    warm_up.display = true;
-    render(warm_up);
-  }
-
-  void add(std::unique_ptr<Pass> pass) {
-    for (const auto& r : pass->reads()) {
-      if (std::find(written.begin(), written.end(), r) == written.end()) {
-        throw std::invalid_argument("pass '" + pass->name() + "' reads image '" + r + "' that no earlier pass writes");
-      }
-    }
-    for (const auto& w : pass->writes()) written.push_back(w);
-    passes.push_back(std::move(pass));
-  }
-
-  Frame render(const RenderSettings& settings) {
-    auto start = std::chrono::steady_clock::now();
-    images.resize(settings.width, settings.height);
-    Frame frame;
-    frame.width = settings.width;
-    frame.height = settings.height;
-    frame.gpu_ms = 0;
-    auto time = [&](double ms) { frame.gpu_ms = ms < 0 || frame.gpu_ms < 0 ? -1 : frame.gpu_ms + ms; };
-    for (auto& pass : passes) time(pass->run(images, settings));
-    if (settings.display) time(display.run(images, settings));
-    const size_t pixels = size_t(settings.width) * settings.height;
-    auto colours = images.existing("colour").as<glm::vec4>();
-    frame.colour.assign(colours.begin(), colours.begin() + pixels);
-    auto counts = images.existing("steps").as<uint32_t>();
-    frame.steps.assign(counts.begin(), counts.begin() + pixels);
-    if (settings.gbuffer) {
-      auto texels = images.existing("gbuffer").as<glm::vec4>();
-      frame.gbuffer.resize(pixels);
-      for (size_t i = 0; i < pixels; ++i) {
-        glm::vec4 a = texels[3 * i], b = texels[3 * i + 1], c = texels[3 * i + 2];
-        frame.gbuffer[i] = {a.x, glm::vec3(a.y, a.z, a.w), glm::vec3(b), b.w, glm::vec3(c), c.w};
-      }
-    }
-    if (settings.display) {
-      auto d = images.existing("display").as<uint32_t>();
-      frame.display.assign(d.begin(), d.begin() + pixels);
-    }
-    finish_frame_stats(frame);
-    frame.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return frame;
-  }
-};
-
 GpuRenderer::GpuRenderer(vk::Context& context, const octree::Octree& tree, const Options& options)
-    : impl_(std::make_unique<Impl>(context, tree, options)) {}
+    : GpuRenderer(nullptr, &context, tree, options) {}
 
-GpuRenderer::~GpuRenderer() = default;
+GpuRenderer::GpuRenderer(std::unique_ptr<vk::Context> context, const octree::Octree& tree, const Options& options)
+    : GpuRenderer(std::move(context), nullptr, tree, options) {}
 
-Frame GpuRenderer::render(const RenderSettings& settings) { return impl_->render(settings); }
+GpuRenderer::GpuRenderer(std::unique_ptr<vk::Context> owned, vk::Context* context, const octree::Octree& tree,
+                         const Options& options)
+    : Renderer(Host::Vulkan, context, std::move(owned)) {
+  vk::Context& c = *vulkan();
+  set_trace(std::make_unique<TracePass>(c, tree, options));
+  // Drivers may compile a pipeline at its first dispatch (lavapipe takes
+  // about a second): do it here, so that frame times are frame times.
+  RenderSettings warm_up;
+  warm_up.width = warm_up.height = 1;
+  warm_up.camera.eye = tree.origin - glm::vec3(tree.size);
+  warm_up.camera.target = tree.origin + 0.5f * glm::vec3(tree.size);
+  warm_up.display = true;
+  render(warm_up);
+}
 
-std::size_t GpuRenderer::pool_bytes() const { return impl_->trace->pool_bytes(); }
+namespace {
+const TracePass& trace_of(const Pass& pass) { return static_cast<const TracePass&>(pass); }
+}  // namespace
 
-void GpuRenderer::add_pass(std::unique_ptr<Pass> pass) { impl_->add(std::move(pass)); }
+std::size_t GpuRenderer::pool_bytes() const { return trace_of(first_pass()).pool_bytes(); }
 
-FrameImages& GpuRenderer::images() { return impl_->images; }
+uint32_t GpuRenderer::pool_buffers() const { return trace_of(first_pass()).pool_buffers(); }
 
-}  // namespace svo::render
+const char* GpuRenderer::pool_access() const { return trace_of(first_pass()).pool_access(); }
 
-namespace svo::render {
-uint32_t GpuRenderer::pool_buffers() const { return impl_->trace->pool_buffers(); }
-
-const char* GpuRenderer::pool_access() const { return impl_->trace->pool_access(); }
 }  // namespace svo::render

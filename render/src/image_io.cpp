@@ -121,6 +121,30 @@ void write_colour(const std::string& path, const Frame& frame) {
   }
 }
 
+namespace {
+
+// A G-buffer texel as the channels of kGBufferChannels.
+void gbuffer_channels(const GBufferTexel& t, float* out) {
+  const float values[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,   t.normal.y,
+                          t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
+                          t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,     t.a_s.x,
+                          t.a_s.y,       t.a_s.z,      t.coverage};
+  static_assert(std::size(values) == kGBufferChannels.size());
+  std::copy(std::begin(values), std::end(values), out);
+}
+
+void write_float_exr(const std::string& path, uint32_t width, uint32_t height, const std::vector<std::string>& names,
+                     const std::vector<float>& data) {
+  OIIO::ImageSpec spec(int(width), int(height), int(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  spec.alpha_channel = -1;
+  spec.attribute("compression", "zip");
+  spec.attribute("Software", "svo");
+  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
+}
+
+}  // namespace
+
 void write_gbuffer(const std::string& path, const Frame& frame) {
   if (image_format(path) != ImageFormat::Exr) {
     throw ImageError(path + ": the G-buffer is written as OpenEXR only (use .exr)");
@@ -128,19 +152,51 @@ void write_gbuffer(const std::string& path, const Frame& frame) {
   check_size(path, frame, frame.gbuffer.size(), "G-buffer");
   const size_t pixels = size_t(frame.width) * frame.height, n = kGBufferChannels.size();
   std::vector<float> data(pixels * n);
-  for (size_t i = 0; i < pixels; ++i) {
-    const GBufferTexel& t = frame.gbuffer[i];
-    const float values[] = {t.depth,    t.position.x,     t.position.y, t.position.z, t.normal.x, t.normal.y,
-                            t.normal.z, t.slope_variance, t.abar.x,     t.abar.y,     t.abar.z,   t.coverage};
-    static_assert(std::size(values) == kGBufferChannels.size());
-    std::copy(std::begin(values), std::end(values), data.begin() + std::ptrdiff_t(i * n));
+  for (size_t i = 0; i < pixels; ++i) gbuffer_channels(frame.gbuffer[i], data.data() + i * n);
+  write_float_exr(path, frame.width, frame.height, {kGBufferChannels.begin(), kGBufferChannels.end()}, data);
+}
+
+void write_aov(const std::string& path, Renderer& renderer, const std::string& name) {
+  if (image_format(path) != ImageFormat::Exr) throw ImageError(path + ": images are written as OpenEXR only (use .exr)");
+  FrameImages& images = renderer.images();
+  const ImageDesc desc = images.desc(name);
+  const uint32_t w = desc.width(images.width()), h = desc.height(images.height());
+  const size_t texels = size_t(w) * h;
+  ImageMemory& memory = images.read(desc);
+  std::vector<std::string> names;
+  std::vector<float> data;
+  switch (desc.format) {
+    case TexelFormat::Rgba32f: {
+      names = {"R", "G", "B", "A"};
+      const auto* v = static_cast<const float*>(memory.data());
+      data.assign(v, v + 4 * texels);
+      break;
+    }
+    case TexelFormat::R32u: {
+      names = {name};
+      const auto* v = static_cast<const uint32_t*>(memory.data());
+      data.assign(v, v + texels);
+      break;
+    }
+    case TexelFormat::Rgba8: {
+      names = {"R", "G", "B", "A"};
+      const auto* v = static_cast<const uint32_t*>(memory.data());
+      data.resize(4 * texels);
+      for (size_t i = 0; i < texels; ++i) {
+        for (int c = 0; c < 4; ++c) data[4 * i + size_t(c)] = float((v[i] >> (8 * c)) & 255u) / 255.0f;
+      }
+      break;
+    }
+    case TexelFormat::GBuffer: {
+      names.assign(kGBufferChannels.begin(), kGBufferChannels.end());
+      const size_t n = kGBufferChannels.size();
+      data.resize(n * texels);
+      const auto* v = static_cast<const glm::vec4*>(memory.data());
+      for (size_t i = 0; i < texels; ++i) gbuffer_channels(unpack_gbuffer(v + i * kGBufferVec4s), data.data() + i * n);
+      break;
+    }
   }
-  OIIO::ImageSpec spec(int(frame.width), int(frame.height), int(n), OIIO::TypeDesc::FLOAT);
-  spec.channelnames.assign(kGBufferChannels.begin(), kGBufferChannels.end());
-  spec.alpha_channel = -1;
-  spec.attribute("compression", "zip");
-  spec.attribute("Software", "svo");
-  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
+  write_float_exr(path, w, h, names, data);
 }
 
 void write_steps(const std::string& path, const Frame& frame) {

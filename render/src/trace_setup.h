@@ -48,6 +48,9 @@ const MaskTable& tracer_mask_table();
 // tracer_buffer(tracer_mask_table()), built once.
 const std::vector<Mask>& tracer_mask_buffer();
 
+// Threads of the native host's parallel loops.
+int native_threads();
+
 // Frame statistics from the per-pixel outputs already in `frame`.
 void finish_frame_stats(Frame& frame);
 

@@ -65,7 +65,9 @@ struct SvoShade {
   vec3 p;                // where the element was shaded (on its mean plane)
   vec3 abar;             // colour seen from the camera (Eq. 17 with the view alone in prefiltered mode)
   vec3 n;                // unit mean normal
-  float slope_variance;  // mean of the total per-axis variances
+  vec3 t;                // the tangent of n's frame in which slope_cov is expressed
+  vec3 slope_cov;        // the slope covariance the specular lobe sees, without sigma_rho^2
+  vec3 a_s;              // colour-height correlation
   uint steps;            // shadow cone elements
 };
 
@@ -247,7 +249,9 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   s.abar = a_view;
   s.p = m.p;
   s.n = n;
-  s.slope_variance = 0.5f * (total.x + total.y);
+  s.t = f.t;
+  s.slope_cov = cov + footprint;
+  s.a_s = m.v.a_s;
   return s;
 }
 

@@ -22,13 +22,13 @@
 // combine A-buffer style and the background fills the bits never set.
 #ifndef SVO_TRACER_GLSL
 #define SVO_TRACER_GLSL
+#include "gbuffer.glsl"
 #include "shading.glsl"
 
 struct SvoPixel {
-  vec4 colour;  // linear RGB; alpha: coverage
-  vec4 g0;      // depth, position
-  vec4 g1;      // normal, total slope variance
-  vec4 g2;      // abar, coverage
+  vec4 colour;      // linear RGB, the background's share included; alpha: coverage
+  vec4 background;  // the background's share of colour: rgb, and 1 - coverage
+  SvoGBuffer g;     // filled when params.image.w has SVO_FLAG_GBUFFER (gbuffer.glsl)
   uint steps;
 };
 
@@ -50,9 +50,8 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   float t1 = svo_box_exit(cone.o, cone.inv_d, lo, params.domain.w + 2.0f * grow);
   SvoMarch m = svo_march_start(t0);
   vec3 radiance = vec3(0.0f);
-  vec4 g0 = vec4(0.0f);
-  vec4 g1 = vec4(0.0f);
-  vec4 g2 = vec4(0.0f);
+  bool gbuffer = (params.image.w & SVO_FLAG_GBUFFER) != 0u;
+  SvoGBuffer g = svo_gbuffer_empty();
   uvec4 alpha = uvec4(0u);
   float coverage = 0.0f;
   uint steps = 0u;
@@ -75,20 +74,28 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
     SvoShade s = svo_shade(m, -d, mode, svo_footprint_part(parts ? fresh : uvec4(0xFFFFFFFFu)));
     steps += s.steps;
     radiance += weight * s.radiance;
-    g0 += weight * vec4(dot(s.p - cone.o, d), s.p);
-    g1 += weight * vec4(s.n, s.slope_variance);
-    g2 += weight * vec4(s.abar, 1.0f);
+    if (gbuffer) {
+      SvoGBuffer e;
+      e.depth = dot(s.p - cone.o, d);
+      e.position = s.p;
+      e.normal = s.n;
+      e.coverage = 1.0f;
+      e.tangent = s.t;
+      e.sigma_rho2 = params.material.x;
+      e.slope_cov = s.slope_cov;
+      e.abar = s.abar;
+      e.a_s = s.a_s;
+      g = svo_gbuffer_madd(g, e, weight);
+    }
     coverage += weight;
     alpha = alpha | m.mask;
     if (mode == SVO_MODE_ALPHA ? coverage >= 0.999f : svo_popcount(alpha) == 128) break;
   }
   SvoPixel px;
   coverage = min(coverage, 1.0f);
-  px.colour = vec4(radiance + (1.0f - coverage) * vec3(params.background), coverage);
-  float inv = coverage > 0.0f ? 1.0f / g2.w : 0.0f;
-  px.g0 = g0 * inv;
-  px.g1 = g1 * inv;
-  px.g2 = vec4(vec3(g2) * inv, coverage);
+  px.background = vec4((1.0f - coverage) * vec3(params.background), 1.0f - coverage);
+  px.colour = vec4(radiance + vec3(px.background), coverage);
+  px.g = svo_gbuffer_finish(g, coverage);
   px.steps = steps;
   return px;
 }
@@ -129,29 +136,27 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   float radius = march ? 1.0f / SVO_SQRT_PI : 0.0f;
   SvoPixel sum;
   sum.colour = vec4(0.0f);
-  sum.g0 = vec4(0.0f);
-  sum.g1 = vec4(0.0f);
-  sum.g2 = vec4(0.0f);
+  sum.background = vec4(0.0f);
+  sum.g = svo_gbuffer_empty();
   sum.steps = 0u;
+  float covered = 0.0f;
   for (uint j = first; j < first + rows; ++j) {
     for (uint i = 0u; i < n; ++i) {
       vec2 u = (vec2(float(i), float(j)) + 0.5f) / float(n);
       SvoPixel s = svo_trace_cone(vec2(pixel) + 0.5f + radius * svo_concentric_disk(u), k, cone_mode);
       sum.colour += s.colour;
+      sum.background += s.background;
       // G-buffer fields are coverage-weighted averages: weight by coverage again.
-      sum.g0 += s.g2.w * s.g0;
-      sum.g1 += s.g2.w * s.g1;
-      sum.g2 += vec4(s.g2.w * vec3(s.g2), s.g2.w);
+      sum.g = svo_gbuffer_madd(sum.g, s.g, s.g.coverage);
+      covered += s.g.coverage;
       sum.steps += s.steps;
     }
   }
-  float covered = sum.g2.w;
-  float inv = covered > 0.0f ? 1.0f / covered : 0.0f;
   float count = float(rows * n);
   sum.colour *= 1.0f / count;
-  sum.g0 *= inv;
-  sum.g1 *= inv;
-  sum.g2 = vec4(vec3(sum.g2) * inv, covered / count);
+  sum.background *= 1.0f / count;
+  sum.g.coverage = covered;
+  sum.g = svo_gbuffer_finish(sum.g, covered / count);
   return sum;
 }
 

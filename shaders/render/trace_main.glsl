@@ -17,20 +17,21 @@ layout(std430, set = 0, binding = 2) readonly restrict buffer Masks { uvec4 mask
 layout(std430, set = 0, binding = 3) writeonly restrict buffer ColourOut { vec4 colour_out[]; };
 layout(std430, set = 0, binding = 4) writeonly restrict buffer GBufferOut { vec4 gbuffer_out[]; };
 layout(std430, set = 0, binding = 5) writeonly restrict buffer StepsOut { uint steps_out[]; };
+layout(std430, set = 0, binding = 6) writeonly restrict buffer BackgroundOut { vec4 background_out[]; };
 #if defined(SVO_POOL_SINGLE)
-layout(std430, set = 0, binding = 6) readonly restrict buffer Pool { uint words[]; } pool;
+layout(std430, set = 0, binding = 7) readonly restrict buffer Pool { uint words[]; } pool;
 #elif defined(SVO_POOL_ADDRESS)
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer SvoWords { uint w[]; };
-layout(std430, set = 0, binding = 6) readonly restrict buffer PoolAddresses { uvec2 pool_address[]; };
+layout(std430, set = 0, binding = 7) readonly restrict buffer PoolAddresses { uvec2 pool_address[]; };
 #else
-layout(std430, set = 0, binding = 6) readonly restrict buffer Pool0 { uint pool0[]; };
-layout(std430, set = 0, binding = 7) readonly restrict buffer Pool1 { uint pool1[]; };
-layout(std430, set = 0, binding = 8) readonly restrict buffer Pool2 { uint pool2[]; };
-layout(std430, set = 0, binding = 9) readonly restrict buffer Pool3 { uint pool3[]; };
-layout(std430, set = 0, binding = 10) readonly restrict buffer Pool4 { uint pool4[]; };
-layout(std430, set = 0, binding = 11) readonly restrict buffer Pool5 { uint pool5[]; };
-layout(std430, set = 0, binding = 12) readonly restrict buffer Pool6 { uint pool6[]; };
-layout(std430, set = 0, binding = 13) readonly restrict buffer Pool7 { uint pool7[]; };
+layout(std430, set = 0, binding = 7) readonly restrict buffer Pool0 { uint pool0[]; };
+layout(std430, set = 0, binding = 8) readonly restrict buffer Pool1 { uint pool1[]; };
+layout(std430, set = 0, binding = 9) readonly restrict buffer Pool2 { uint pool2[]; };
+layout(std430, set = 0, binding = 10) readonly restrict buffer Pool3 { uint pool3[]; };
+layout(std430, set = 0, binding = 11) readonly restrict buffer Pool4 { uint pool4[]; };
+layout(std430, set = 0, binding = 12) readonly restrict buffer Pool5 { uint pool5[]; };
+layout(std430, set = 0, binding = 13) readonly restrict buffer Pool6 { uint pool6[]; };
+layout(std430, set = 0, binding = 14) readonly restrict buffer Pool7 { uint pool7[]; };
 #endif
 
 uvec2 svo_node(uint index) { return nodes[index]; }
@@ -70,10 +71,9 @@ void main() {
   SvoPixel px = svo_trace_pixel(pixel);
   uint i = pixel.y * params.image.x + pixel.x;
   colour_out[i] = px.colour;
+  background_out[i] = px.background;
   steps_out[i] = px.steps;
   if ((params.image.w & SVO_FLAG_GBUFFER) != 0u) {
-    gbuffer_out[3u * i] = px.g0;
-    gbuffer_out[3u * i + 1u] = px.g1;
-    gbuffer_out[3u * i + 2u] = px.g2;
+    for (uint k = 0u; k < SVO_GBUFFER_VEC4S; ++k) gbuffer_out[SVO_GBUFFER_VEC4S * i + k] = svo_gbuffer_pack(px.g, k);
   }
 }

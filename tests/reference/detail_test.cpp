@@ -179,7 +179,7 @@ TEST(Detail, MeanColourHoldsAcrossTheExplicitStatisticalTransition) {
     for (size_t i = 0; i < f.colour.size(); ++i) {
       ASSERT_EQ(f.colour[i].a, 1.0f);
       sum += glm::dvec3(f.colour[i]);
-      slope_variance += f.gbuffer[i].slope_variance;
+      slope_variance += f.gbuffer[i].slope_variance();
     }
     slope_variance /= double(f.colour.size());
     // The slopes left as statistics: the octaves finer than the footprint

@@ -45,8 +45,11 @@ Frame test_frame(uint32_t width, uint32_t height) {
       t.depth = 1 + u;
       t.position = {u, v, -u};
       t.normal = {0.1f * u, 0.2f * v, 0.9f};
-      t.slope_variance = 0.01f * (1 + u * v);
+      t.tangent = {0.9f, -0.1f * u, 0.05f * v};
+      t.slope_cov = {0.01f * (1 + u * v), 0.02f * u, -0.003f * v};
+      t.sigma_rho2 = 0.004f + 0.001f * u;
       t.abar = {0.3f, u, v};
+      t.a_s = {-0.2f * u, 0.1f * v, 0.7f};
       t.coverage = (u + v) / 2;
       f.gbuffer.push_back(t);
       f.steps.push_back(x * 1000 + y * 7 + 3);
@@ -140,8 +143,11 @@ TEST(ImageIo, GBufferHasEveryChannelExactly) {
   for (int y = 0; y < 9; ++y) {
     for (int x = 0; x < 13; ++x) {
       const GBufferTexel& t = f.gbuffer[size_t(y * 13 + x)];
-      const float expected[] = {t.depth,    t.position.x,     t.position.y, t.position.z, t.normal.x, t.normal.y,
-                                t.normal.z, t.slope_variance, t.abar.x,     t.abar.y,     t.abar.z,   t.coverage};
+      const float expected[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,   t.normal.y,
+                                t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
+                                t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,     t.a_s.x,
+                                t.a_s.y,       t.a_s.z,      t.coverage};
+      static_assert(std::size(expected) == kGBufferChannels.size());
       for (size_t c = 0; c < kGBufferChannels.size(); ++c) {
         ASSERT_EQ(image.at(x, y, index[c]), expected[c]) << kGBufferChannels[c] << " at " << x << "," << y;
       }

@@ -12,8 +12,7 @@
 //         A = coverage. RGB includes the background, so A records coverage
 //         and is not an associated (premultiplied) alpha.
 // G-buffer files are .exr only: one 32-bit float channel per field of
-// GBufferTexel, named depth, P.x, P.y, P.z, N.x, N.y, N.z, slope_variance,
-// abar.R, abar.G, abar.B, coverage (kGBufferChannels).
+// GBufferTexel (shaders/common/gbuffer.glsl), named in kGBufferChannels.
 #pragma once
 
 #include <array>
@@ -48,13 +47,22 @@ void check_writable_output(const std::string& path);
 //        not hold width * height pixels, or any failure to write.
 void write_colour(const std::string& path, const Frame& frame);
 
-constexpr std::array<const char*, 12> kGBufferChannels{
-    "depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "slope_variance", "abar.R", "abar.G", "abar.B", "coverage"};
+constexpr std::array<const char*, 21> kGBufferChannels{
+    "depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "T.x", "T.y", "T.z", "slope_cov.xx", "slope_cov.yy",
+    "slope_cov.xy", "sigma_rho2", "abar.R", "abar.G", "abar.B", "a_s.R", "a_s.G", "a_s.B", "coverage"};
 
 // Writes frame.gbuffer as one multi-channel float EXR, atomically.
 // @throw ImageError when `path` is not .exr, the frame has no G-buffer of
 //        width * height texels, or the write fails.
 void write_gbuffer(const std::string& path, const Frame& frame);
+
+// Writes the image `name` of the renderer's last frame (its level 0) as a
+// float EXR, atomically: Rgba32f as R, G, B, A; R32u as one channel named
+// after the image; Rgba8 as R, G, B, A in [0, 1]; the G-buffer as
+// kGBufferChannels.
+// @throw ImageError when `path` is not .exr or the write fails;
+//        std::invalid_argument when the last frame has no such image.
+void write_aov(const std::string& path, Renderer& renderer, const std::string& name);
 
 // Writes frame.steps (cone elements visited per pixel, shadow cones
 // included) as a one-channel float EXR named "steps", atomically: where a

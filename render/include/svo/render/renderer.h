@@ -1,14 +1,16 @@
 // The cone tracer (Heitz & Neyret Algorithm 1, DESIGN section 8): one cone
 // per pixel through the bricked octree, A-buffer masks for sub-pixel
 // occlusion, shading by Eq. 13 with the Eq. 17 attribute. The same tracer
-// source (shaders/common/tracer.glsl) runs on the GPU (GpuRenderer, Vulkan
-// compute) and on the CPU (render_cpu, for tests).
+// source (shaders/common/tracer.glsl) runs on two hosts: a Vulkan device
+// (GpuRenderer, compute) and the CPU (NativeRenderer, compiled as C++).
+// make_renderer picks the host a command asks for.
 #pragma once
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -90,20 +92,36 @@ struct RenderSettings {
   // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
   float shading_voxel = 1.0f;
   uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
-  bool gbuffer = false;  // fill Frame::gbuffer
-  bool display = false;  // GPU only: run the display pass and fill Frame::display
+  bool gbuffer = false;  // trace the G-buffer and fill Frame::gbuffer
+  bool display = false;  // run the display pass and fill Frame::display
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
 };
 
-// One G-buffer texel: coverage-weighted averages over the elements that set
-// bits of the pixel's mask (coverage 0: no surface, the other fields 0).
+// One G-buffer texel (shaders/common/gbuffer.glsl, which says what each
+// field holds): coverage-weighted averages over the elements that set bits
+// of the pixel's mask (coverage 0: no surface, the other fields 0).
 struct GBufferTexel {
   float depth = 0;  // distance along the view ray, scene units
   glm::vec3 position{0};
   glm::vec3 normal{0};  // filtered mean normal (not renormalised)
-  float slope_variance = 0;  // total: sigma_n^2 (isotropic mean) + sigma_rho^2
+  float coverage = 0;   // covered fraction of the pixel's footprint
+  glm::vec3 tangent{0};  // unit, perpendicular to the normal: the frame of slope_cov
+  float sigma_rho2 = 0;  // the micro-BRDF's slope variance
+  glm::vec3 slope_cov{0};  // (xx, yy, xy) in (tangent, normal x tangent), without sigma_rho2
   glm::vec3 abar{0};
-  float coverage = 0;  // covered fraction of the pixel's footprint
+  glm::vec3 a_s{0};
+  // The mean per-axis slope variance with the micro-BRDF's.
+  float slope_variance() const { return 0.5f * (slope_cov.x + slope_cov.y) + sigma_rho2; }
+};
+
+// vec4s of one texel of the "gbuffer" image (SVO_GBUFFER_VEC4S).
+constexpr std::size_t kGBufferVec4s = 6;
+// The texel at `texel` (kGBufferVec4s vec4s), unpacked by gbuffer.glsl.
+GBufferTexel unpack_gbuffer(const glm::vec4* texel);
+
+struct PassTime {
+  std::string name;
+  double ms = -1;  // device timestamps on Vulkan, wall clock natively; negative: unknown
 };
 
 struct Frame {
@@ -112,18 +130,73 @@ struct Frame {
   std::vector<GBufferTexel> gbuffer;  // empty unless requested
   std::vector<uint32_t> steps;  // cone elements visited per pixel (shadow cones included)
   std::vector<uint32_t> display;  // when requested: 8-bit sRGB RGBA per pixel (DisplayPass)
-  double gpu_ms = -1;   // GPU time of the trace from timestamp queries; -1 when unknown (CPU)
+  std::vector<PassTime> passes;   // each pass's time, in the order they ran
+  double ms = -1;       // the passes' time together (-1 when one is unknown)
+  double gpu_ms = -1;   // the same from GPU timestamps; -1 on the native host or without timestamps
   double wall_ms = 0;   // host time of render(), uploads of settings and read-back included
   uint64_t covered_pixels = 0;  // pixels with coverage > 0
   double steps_per_pixel = 0;   // mean over all pixels
 };
 
-// The Vulkan tracer. Uploads the octree once (node pool and brick pools,
+// The frame's time as commands report it: the passes' (GPU timestamps on a
+// Vulkan device, wall clock natively), or the wall clock of render() when a
+// pass's time is unknown.
+inline double frame_ms(const Frame& frame) { return frame.ms >= 0 ? frame.ms : frame.wall_ms; }
+
+// A renderer: the cone tracer and the passes added after it, on one host.
+// render() may be called many times; the octree is prepared once.
+class Renderer {
+ public:
+  virtual ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Runs the chain: the tracer, the passes added, the display pass when
+  // settings.display. The G-buffer is traced when settings.gbuffer or when
+  // an added pass reads it. Throws std::invalid_argument for bad settings
+  // (size 0 or above the device's limits, too many lights), vk::Error for
+  // Vulkan failures.
+  Frame render(const RenderSettings& settings);
+
+  // Appends a pass that runs after the tracer (and before the display pass)
+  // on every frame. Throws std::invalid_argument naming the pass and the
+  // image when it reads an image that no earlier pass writes, or reads it
+  // with another type than it is written.
+  void add_pass(std::unique_ptr<Pass> pass);
+
+  // The images of the last frame (FrameImages::read them by name).
+  FrameImages& images();
+  // Names of the images the chain writes (the display pass's included).
+  std::vector<std::string> image_names() const;
+
+  Host host() const { return host_; }
+  const std::string& device_name() const { return device_name_; }
+  // "native", or the Vulkan device's type ("discrete", "integrated", "cpu", ...).
+  const std::string& device_type() const { return device_type_; }
+  // Vulkan validation messages so far (empty without validation and natively).
+  std::vector<std::string> validation_messages() const;
+
+ protected:
+  Renderer(Host host, vk::Context* context, std::unique_ptr<vk::Context> owned);
+  void set_trace(std::unique_ptr<Pass> trace);  // the first pass; called once by the host's constructor
+  const Pass& first_pass() const { return *passes_.front(); }
+  vk::Context* vulkan() const { return context_; }
+
+ private:
+  std::unique_ptr<vk::Context> owned_context_;  // declared first: outlives every buffer below
+  vk::Context* context_;
+  Host host_;
+  std::string device_name_, device_type_;
+  std::vector<std::unique_ptr<Pass>> passes_;
+  std::map<std::string, ImageDesc> written_;  // images the chain writes so far
+  DisplayPass display_;
+  FrameImages images_;
+};
+
+// The Vulkan host. Uploads the octree once (node pool and brick pools,
 // split across several storage buffers within the device's
-// maxStorageBufferRange); render() may be called many times. A frame is a
-// chain of passes (pass.h): the tracer, the passes added, and the display
-// pass when asked for.
-class GpuRenderer {
+// maxStorageBufferRange).
+class GpuRenderer : public Renderer {
  public:
   struct Options {
     // Lowers the size of one brick buffer below the device's limit (0: the
@@ -136,31 +209,44 @@ class GpuRenderer {
   // Throws vk::Error naming the limit when the octree cannot fit on the device.
   GpuRenderer(vk::Context& context, const octree::Octree& tree) : GpuRenderer(context, tree, Options{}) {}
   GpuRenderer(vk::Context& context, const octree::Octree& tree, const Options& options);
-  ~GpuRenderer();
-  GpuRenderer(const GpuRenderer&) = delete;
-  GpuRenderer& operator=(const GpuRenderer&) = delete;
-
-  // Throws std::invalid_argument for bad settings (size 0 or above the
-  // device's limits, too many lights), vk::Error for Vulkan failures.
-  Frame render(const RenderSettings& settings);
-
-  // Appends a pass that runs after the tracer (and before the display pass)
-  // on every frame. Throws std::invalid_argument when it reads an image that
-  // no earlier pass writes.
-  void add_pass(std::unique_ptr<Pass> pass);
-  // The images of the last frame (read them through their mapped buffers).
-  FrameImages& images();
+  // The same, owning its context.
+  GpuRenderer(std::unique_ptr<vk::Context> context, const octree::Octree& tree, const Options& options);
 
   std::size_t pool_bytes() const;    // device memory held by the octree pools
   uint32_t pool_buffers() const;     // buffers the bricks are split across
   const char* pool_access() const;   // "single", "address" or "switch": how the tracer reads them
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  GpuRenderer(std::unique_ptr<vk::Context> owned, vk::Context* context, const octree::Octree& tree,
+              const Options& options);
 };
 
-// The same tracer on the CPU (multithreaded, slow): the reference for the GPU path in tests.
+// The native host: the tracer of shaders/common compiled as C++, every pass
+// parallel over texels with TBB. Packs the octree once.
+class NativeRenderer : public Renderer {
+ public:
+  explicit NativeRenderer(const octree::Octree& tree);
+};
+
+// The host a command runs on. `device`: "" for the default (a discrete GPU,
+// then an integrated one, then the native host; Vulkan's CPU device,
+// lavapipe, only when named), "native", or a Vulkan device's index or a
+// case-insensitive substring of its name (vk::select_device).
+struct DeviceOptions {
+  std::string device;
+  bool validation = false;  // Vulkan only: the Khronos validation layer
+  GpuRenderer::Options gpu;
+};
+
+// What `device` selects, without opening it: "native" or the Vulkan
+// device's index as a string. Throws vk::Error naming the selector and the
+// devices there are when it matches none.
+std::string resolve_device(const std::string& device);
+
+// A renderer on the device `options` select. Throws vk::Error as resolve_device does.
+std::unique_ptr<Renderer> make_renderer(const octree::Octree& tree, const DeviceOptions& options);
+
+// One frame on the native host (for tests): NativeRenderer(tree).render(settings).
 Frame render_cpu(const octree::Octree& tree, const RenderSettings& settings);
 
 }  // namespace svo::render
