@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -79,11 +80,12 @@ class TracePass : public Pass {
     }
     pool_bytes_ += nodes_.size() + masks_.size();
     if (access_ == std::string("single")) {
-      kernel_.emplace(context, svo_spv_trace_single_comp, 8, 0);
+      spirv_ = svo_spv_trace_single_comp;
     } else if (address) {
-      kernel_.emplace(context, svo_spv_trace_address_comp, 8, 0);
+      spirv_ = svo_spv_trace_address_comp;
     } else {
-      kernel_.emplace(context, svo_spv_trace_switch_comp, 7 + kPoolSlots, 0);
+      spirv_ = svo_spv_trace_switch_comp;
+      bindings_ = 7 + kPoolSlots;
     }
   }
 
@@ -126,7 +128,8 @@ class TracePass : public Pass {
     // instead costs 1.8x per frame on lavapipe.
     const uint32_t n = uint32_t(p.lens.w);
     const uint32_t rows = settings.mode == Mode::RayMarch ? std::max(1u, kRaysPerDispatch / n) : n;
-    if (rows >= n) return kernel_->dispatch(bound, nullptr, gx, gy);
+    vk::ComputeKernel& kernel = kernel_for(settings);
+    if (rows >= n) return kernel.dispatch(bound, nullptr, gx, gy);
     // Sums over the dispatches: colour and background weighted by the
     // share of rays, the G-buffer by coverage too (gbuffer.glsl).
     using svo::math::SvoGBuffer;
@@ -144,7 +147,7 @@ class TracePass : public Pass {
       p.lens.z = float(first);
       p.lens.w = float(std::min(rows, n - first));
       std::memcpy(params_.data(), &p, sizeof p);
-      double part = kernel_->dispatch(bound, nullptr, gx, gy);
+      double part = kernel.dispatch(bound, nullptr, gx, gy);
       ms = part < 0 || ms < 0 ? -1 : ms + part;
       const float w = p.lens.w / float(n);
       for (size_t i = 0; i < pixels; ++i) {
@@ -172,6 +175,22 @@ class TracePass : public Pass {
     return ms;
   }
 
+  // The pipeline specialised for the settings' mode, shadows and detail
+  // (tracer_params.glsl, "Specialisation"), made at its first use.
+  vk::ComputeKernel& kernel_for(const RenderSettings& settings) {
+    using namespace svo::math;
+    uint32_t flags = SVO_SPEC_ANY;
+    if (!settings.shadows) flags &= ~SVO_FLAG_SHADOWS;
+    if (tree_.detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
+    const std::pair<uint32_t, uint32_t> key{uint32_t(settings.mode), flags};
+    auto& kernel = kernels_[key];
+    if (!kernel) {
+      const uint32_t spec[] = {key.first, key.second};
+      kernel = std::make_unique<vk::ComputeKernel>(context_, spirv_, bindings_, 0, spec);
+    }
+    return *kernel;
+  }
+
   size_t pool_bytes() const { return pool_bytes_; }
   uint32_t pool_buffers() const { return uint32_t(pools_.size()); }
   const char* pool_access() const { return access_; }
@@ -186,7 +205,9 @@ class TracePass : public Pass {
   vk::Buffer no_gbuffer_;  // bound in the G-buffer's place when the settings do not ask for it
   const char* access_ = "single";
   std::vector<vk::Buffer> pools_;
-  std::optional<vk::ComputeKernel> kernel_;  // created once the number of pool buffers is known
+  std::span<const uint32_t> spirv_;  // the kernel of the pools' access
+  uint32_t bindings_ = 8;
+  std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<vk::ComputeKernel>> kernels_;  // by specialisation
   size_t pool_bytes_ = 0;
 };
 

@@ -27,6 +27,9 @@ struct NativeTracer {
     return v >> ((at & 3u) * 8u);
   }
   uvec4 svo_mask(uint cell) const { return masks[cell]; }
+  // Every mode and flag open (tracer_params.glsl, "Specialisation").
+  static constexpr uint SVO_SPEC_MODE = SVO_SPEC_ANY;
+  static constexpr uint SVO_SPEC_FLAGS = SVO_SPEC_ANY;
 
 #include "common/tracer.glsl"
 };

@@ -149,12 +149,14 @@ namespace {
 // Host memory for the native host's images.
 class HostMemory : public ImageMemory {
  public:
-  explicit HostMemory(std::size_t bytes) : data_(bytes) {}
-  void* data() override { return data_.data(); }
-  std::size_t bytes() const override { return data_.size(); }
+  // Not zeroed: a pass writes every texel it declares.
+  explicit HostMemory(std::size_t bytes) : data_(new uint8_t[bytes]), bytes_(bytes) {}
+  void* data() override { return data_.get(); }
+  std::size_t bytes() const override { return bytes_; }
 
  private:
-  std::vector<uint8_t> data_;
+  std::unique_ptr<uint8_t[]> data_;
+  std::size_t bytes_;
 };
 
 // A host-visible device buffer for the Vulkan host's images.

@@ -87,7 +87,9 @@ SVO_FN SvoDetail svo_trace_detail() {
 
 // Whether an element of radius r draws detail octaves that the finest level
 // holds only as statistics (its footprint is finer than the finest level's).
-SVO_FN bool svo_draws_detail(float r) { return params.detail_u.x > 0u && r < params.detail_colour.w; }
+SVO_FN bool svo_draws_detail(float r) {
+  return (SVO_SPEC_FLAGS & SVO_FLAG_DETAIL) != 0u && params.detail_u.x > 0u && r < params.detail_colour.w;
+}
 
 // The mean normal n tilted by the gradient g of an added displacement along
 // it (the gradient of distance - displacement), its length kept.

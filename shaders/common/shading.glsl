@@ -225,7 +225,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     float lambert = svo_rough_lambert(vl, ll, sn2);
     if (!(ndl > 0.0f) && !(lambert > 0.0f)) continue;
     float visible = 1.0f;
-    if ((params.image.w & SVO_FLAG_SHADOWS) != 0u) {
+    if ((params.image.w & SVO_SPEC_FLAGS & SVO_FLAG_SHADOWS) != 0u) {
       float spread = lv.w > 0.5f ? lr.w / max(dist, 1.0e-30f) : tan(lr.w);
       SvoVisibility vis = svo_visibility(m.p, l, dist, m.radius, spread, ndl, mode);
       visible = vis.visible;

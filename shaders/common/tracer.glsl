@@ -11,6 +11,7 @@
 //   uint svo_brick_bytes(uint brick, uint offset);  the word holding byte `offset` of a brick, shifted
 //                                               right so that this byte is the lowest (never straddles)
 //   uvec4 svo_mask(uint cell);                  the mask table, theta-major, SVO_MASK_BINS^2 cells
+//   uint SVO_SPEC_MODE, SVO_SPEC_FLAGS;         constants: what this kernel traces (tracer_params.glsl)
 // A brick holds every channel of its (B+1)^3 lattice samples, channel after
 // channel (offsets in params), samples x-fastest; a sample of 3 bytes takes 4.
 //
@@ -121,7 +122,7 @@ SVO_FN vec2 svo_concentric_disk(vec2 u) {
 // supersampling baseline), n x n stratified rays over the same footprint
 // disk that march the finest level and are averaged.
 SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
-  uint mode = params.image.z;
+  uint mode = SVO_SPEC_MODE != SVO_SPEC_ANY ? SVO_SPEC_MODE : params.image.z;
   bool march = mode == SVO_MODE_RAYMARCH;
   uint n = march ? uint(floor(sqrt(max(params.lens.y, 1.0f)) + 0.5f)) : 1u;
   // Rows [first, first + rows) of the n x n grid of rays (lens.z, lens.w):

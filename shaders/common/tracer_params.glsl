@@ -22,6 +22,15 @@ SVO_CONST uint SVO_FLAG_CURVED_MASKS = 4u;  // prefiltered and alpha: masks bend
 SVO_CONST uint SVO_FLAG_FRONT_FACING = 8u;  // prefiltered and alpha: a mean normal never faces away from the eye
 SVO_CONST uint SVO_FLAG_ELEMENT_NORMALS = 16u;  // prefiltered and alpha: wide cones' elements shade half with their own normal
 SVO_CONST uint SVO_FLAG_COVERED_PART = 32u;  // prefiltered: an element shades the part of the footprint its fresh bits cover
+SVO_CONST uint SVO_FLAG_DETAIL = 64u;  // a feature bit of SVO_SPEC_FLAGS only: the file's detail octaves may be drawn
+
+// Specialisation (the host contract in tracer.glsl): SVO_SPEC_MODE is the
+// mode every pixel of a kernel traces, or SVO_SPEC_ANY to read it from
+// params; SVO_SPEC_FLAGS masks the flags (and SVO_FLAG_DETAIL) a kernel may
+// see. A Vulkan host makes a pipeline per combination, so that its compiler
+// drops the code a frame cannot reach (lavapipe runs every branch of a
+// SIMD group, taken or not); the native host leaves both open.
+SVO_CONST uint SVO_SPEC_ANY = 0xFFFFFFFFu;
 
 // Parts of a voxel svo_fetch decodes (tracer.glsl).
 SVO_CONST uint SVO_PART_DISTANCE = 1u;

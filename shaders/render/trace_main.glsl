@@ -9,6 +9,10 @@
 
 #define SVO_POOL_SLOTS 8
 
+// What this pipeline traces (tracer_params.glsl, "Specialisation").
+layout(constant_id = 0) const uint SVO_SPEC_MODE = SVO_SPEC_ANY;
+layout(constant_id = 1) const uint SVO_SPEC_FLAGS = SVO_SPEC_ANY;
+
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, set = 0, binding = 0) readonly restrict buffer ParamsBlock { SvoTraceParams params; };

@@ -18,6 +18,8 @@ struct MaskBufferReader {
   uvec2 svo_node(uint) const { return uvec2(0u); }
   uint svo_brick_bytes(uint, uint) const { return 0u; }
   uvec4 svo_mask(uint cell) const { return masks[cell]; }
+  static constexpr uint SVO_SPEC_MODE = SVO_SPEC_ANY;
+  static constexpr uint SVO_SPEC_FLAGS = SVO_SPEC_ANY;
 #include "common/tracer.glsl"
 };
 }  // namespace svo::math
