@@ -16,6 +16,7 @@
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
+#include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 #include "svo/render/vk_context.h"
 #include "view_options.h"
@@ -31,6 +32,7 @@ struct RenderArgs {
   std::string steps;
   std::string save_camera;
   std::vector<std::string> aovs;  // NAME=FILE.exr
+  std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
   std::string mode = "prefiltered";
   uint32_t spp = 1;
@@ -128,6 +130,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0.25f, 4.0f))
       ->group("Shading");
   add_light_options(*cmd, a->view);
+  cmd->add_option("--pass", a->passes,
+                  "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
+                  "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr)")
+      ->group("Passes");
 
   auto* device = cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
   auto* validate =
@@ -164,6 +170,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       render::check_writable_output(path);
     }
     if (!a->save_camera.empty()) render::check_writable_output(a->save_camera);
+    for (const std::string& name : a->passes) render::make_pass(name);  // an unknown name fails here
     std::vector<std::pair<std::string, std::string>> aovs;  // (image, path)
     for (const std::string& aov : a->aovs) {
       const size_t eq = aov.find('=');
@@ -225,6 +232,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto setup_start = std::chrono::steady_clock::now();
     std::unique_ptr<render::Renderer> renderer =
         render::make_renderer(tree, {a->cpu ? "native" : a->device, a->validate});
+    for (const std::string& name : a->passes) renderer->add_pass(render::make_pass(name));
     const double setup_ms = elapsed_ms(setup_start);
     {
       const std::vector<std::string> names = renderer->image_names();

@@ -20,7 +20,6 @@ namespace svo::render {
 
 namespace {
 
-constexpr uint32_t kPoolSlots = 8;  // SVO_POOL_SLOTS in trace_main.glsl
 constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y
 constexpr uint32_t kRaysPerDispatch = 16;  // raymarch: rays per pixel in one dispatch, at most
 
@@ -30,62 +29,18 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1)
 // "gbuffer" (when the settings ask for it) and "steps".
 class TracePass : public Pass {
  public:
-  TracePass(vk::Context& context, const octree::Octree& tree, const GpuRenderer::Options& options)
-      : context_(context),
-        tree_(tree),
-        packed_(pack_octree(tree)),
-        params_(context, sizeof(TraceParams)),
-        nodes_(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2))),
-        masks_(context, tracer_mask_buffer().size() * sizeof(Mask)),
-        addresses_(context, kPoolSlots * sizeof(uint64_t)),
-        no_gbuffer_(context, 16) {
-    std::memcpy(nodes_.data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
-    std::memcpy(masks_.data(), tracer_mask_buffer().data(), masks_.size());
-    const vk::DeviceInfo& info = context.info();
-    const uint64_t all = packed_.brick_count * packed_.brick_bytes + 4;
-    auto limited = [&](uint64_t limit) { return options.max_buffer_bytes > 0 ? std::min(limit, options.max_buffer_bytes) : limit; };
-    // One storage buffer when the bricks fit; else buffers read through
-    // device addresses (bounded by the allocation size, not the descriptor
-    // range); else separate storage buffers and a switch.
-    uint64_t range = limited(info.max_storage_buffer_range);
-    access_ = "single";
-    if (all > range) {
-      access_ = "switch";
-      if (options.device_address && info.buffer_device_address) {
-        access_ = "address";
-        range = limited(std::min<uint64_t>(info.max_allocation_bytes, 0xFFFFFFFCull));
-      }
-    }
-    if (range < uint64_t(packed_.brick_bytes) + 4) {
-      throw vk::Error("a brick of " + std::to_string(packed_.brick_bytes) + " bytes exceeds the buffer limit " +
-                      std::to_string(range) + " of device '" + info.name + "'");
-    }
-    // Whole bricks per buffer, plus one word so that no buffer is empty.
-    bricks_per_slot_ = uint32_t(std::min<uint64_t>((range - 4) / packed_.brick_bytes, 0xFFFFFFFFull));
-    const uint64_t slots = std::max<uint64_t>(1, (packed_.brick_count + bricks_per_slot_ - 1) / bricks_per_slot_);
-    if (slots > kPoolSlots) {
-      throw vk::Error("the octree's bricks (" + mib(all) + ") need " + std::to_string(slots) + " buffers of at most " +
-                      mib(range) + " on device '" + info.name + "' and the tracer binds " + std::to_string(kPoolSlots));
-    }
-    const bool address = access_ == std::string("address");
-    auto slot_addresses = addresses_.as<uint64_t>();
-    for (uint64_t s = 0; s < slots; ++s) {
-      const uint64_t first = s * bricks_per_slot_;
-      const uint64_t count = std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
-      const size_t bytes = size_t(count * packed_.brick_bytes + 4);
-      pools_.emplace_back(context, bytes, address);
-      std::memcpy(pools_.back().data(), packed_.bricks.data() + first * packed_.brick_bytes, bytes);
-      slot_addresses[s] = pools_.back().device_address();
-      pool_bytes_ += bytes;
-    }
-    pool_bytes_ += nodes_.size() + masks_.size();
-    if (access_ == std::string("single")) {
-      spirv_ = svo_spv_trace_single_comp;
-    } else if (address) {
-      spirv_ = svo_spv_trace_address_comp;
-    } else {
-      spirv_ = svo_spv_trace_switch_comp;
-      bindings_ = 7 + kPoolSlots;
+  TracePass(vk::Context& context, const OctreeAccess& octree)
+      : context_(context), octree_(octree), no_gbuffer_(context, 16) {
+    switch (octree.pool_access()) {
+      case PoolAccess::Single:
+        spirv_ = svo_spv_trace_single_comp;
+        break;
+      case PoolAccess::Address:
+        spirv_ = svo_spv_trace_address_comp;
+        break;
+      case PoolAccess::Switch:
+        spirv_ = svo_spv_trace_switch_comp;
+        break;
     }
   }
 
@@ -98,8 +53,7 @@ class TracePass : public Pass {
   double run(PassContext& ctx) override {
     const RenderSettings& settings = ctx.settings;
     FrameImages& images = ctx.images;
-    TraceParams p = make_trace_params(tree_, packed_, settings);
-    p.pool.y = bricks_per_slot_;
+    TraceParams p = octree_.params(settings);
     const uint64_t limit = context_.info().max_storage_buffer_range;
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     // The largest image the kernel binds must fit one storage buffer.
@@ -109,17 +63,10 @@ class TracePass : public Pass {
                                   (settings.gbuffer ? " G-buffer" : " colour image") +
                                   " exceeds the device's maxStorageBufferRange of " + mib(limit));
     }
-    std::memcpy(params_.data(), &p, sizeof p);
     auto buffer = [&](const ImageDesc& desc) -> vk::Buffer* { return images.write(desc).buffer(); };
-    std::vector<const vk::Buffer*> bound{&params_, &nodes_, &masks_, buffer(colour_image()),
-                                         settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
+    std::vector<const vk::Buffer*> bound{buffer(colour_image()), settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
                                          buffer(steps_image()), buffer(background_image())};
-    if (access_ == std::string("address")) {
-      bound.push_back(&addresses_);
-    } else {
-      const size_t slots = access_ == std::string("single") ? 1 : kPoolSlots;
-      for (size_t s = 0; s < slots; ++s) bound.push_back(&pools_[std::min(s, pools_.size() - 1)]);
-    }
+    octree_.bind(p, bound);
     const uint32_t gx = (settings.width + kGroup - 1) / kGroup, gy = (settings.height + kGroup - 1) / kGroup;
     // Many rays per pixel (raymarch): a few rows of the ray grid per
     // dispatch, averaged here. Lavapipe ends all loops of an invocation
@@ -146,7 +93,8 @@ class TracePass : public Pass {
     for (uint32_t first = 0; first < n; first += rows) {
       p.lens.z = float(first);
       p.lens.w = float(std::min(rows, n - first));
-      std::memcpy(params_.data(), &p, sizeof p);
+      bound.resize(4);
+      octree_.bind(p, bound);
       double part = kernel.dispatch(bound, nullptr, gx, gy);
       ms = part < 0 || ms < 0 ? -1 : ms + part;
       const float w = p.lens.w / float(n);
@@ -181,34 +129,23 @@ class TracePass : public Pass {
     using namespace svo::math;
     uint32_t flags = SVO_SPEC_ANY;
     if (!settings.shadows) flags &= ~SVO_FLAG_SHADOWS;
-    if (tree_.detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
+    if (octree_.tree().detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
     const std::pair<uint32_t, uint32_t> key{uint32_t(settings.mode), flags};
     auto& kernel = kernels_[key];
     if (!kernel) {
       const uint32_t spec[] = {key.first, key.second};
-      kernel = std::make_unique<vk::ComputeKernel>(context_, spirv_, bindings_, 0, spec);
+      kernel = std::make_unique<vk::ComputeKernel>(context_, spirv_, 4 + octree_.binding_count(), 0, spec);
     }
     return *kernel;
   }
 
-  size_t pool_bytes() const { return pool_bytes_; }
-  uint32_t pool_buffers() const { return uint32_t(pools_.size()); }
-  const char* pool_access() const { return access_; }
 
  private:
   vk::Context& context_;
-  const octree::Octree& tree_;
-  PackedOctree packed_;
-  uint32_t bricks_per_slot_ = 1;
-  vk::Buffer params_, nodes_, masks_;
-  vk::Buffer addresses_;  // device address of each pool buffer (the "address" kernel)
+  const OctreeAccess& octree_;
   vk::Buffer no_gbuffer_;  // bound in the G-buffer's place when the settings do not ask for it
-  const char* access_ = "single";
-  std::vector<vk::Buffer> pools_;
   std::span<const uint32_t> spirv_;  // the kernel of the pools' access
-  uint32_t bindings_ = 8;
   std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<vk::ComputeKernel>> kernels_;  // by specialisation
-  size_t pool_bytes_ = 0;
 };
 
 }  // namespace
@@ -223,7 +160,8 @@ GpuRenderer::GpuRenderer(std::unique_ptr<vk::Context> owned, vk::Context* contex
                          const Options& options)
     : Renderer(Host::Vulkan, context, std::move(owned)) {
   vk::Context& c = *vulkan();
-  set_trace(std::make_unique<TracePass>(c, tree, options));
+  set_octree(std::make_unique<OctreeAccess>(tree, c, options.max_buffer_bytes, options.device_address));
+  set_trace(std::make_unique<TracePass>(c, octree()));
   // Drivers may compile a pipeline at its first dispatch (lavapipe takes
   // about a second): do it here, so that frame times are frame times.
   RenderSettings warm_up;
@@ -234,14 +172,10 @@ GpuRenderer::GpuRenderer(std::unique_ptr<vk::Context> owned, vk::Context* contex
   render(warm_up);
 }
 
-namespace {
-const TracePass& trace_of(const Pass& pass) { return static_cast<const TracePass&>(pass); }
-}  // namespace
+std::size_t GpuRenderer::pool_bytes() const { return octree().pool_bytes(); }
 
-std::size_t GpuRenderer::pool_bytes() const { return trace_of(first_pass()).pool_bytes(); }
+uint32_t GpuRenderer::pool_buffers() const { return octree().pool_buffers(); }
 
-uint32_t GpuRenderer::pool_buffers() const { return trace_of(first_pass()).pool_buffers(); }
-
-const char* GpuRenderer::pool_access() const { return trace_of(first_pass()).pool_access(); }
+const char* GpuRenderer::pool_access() const { return pool_access_name(octree().pool_access()); }
 
 }  // namespace svo::render

@@ -1,6 +1,6 @@
 // The native host: the tracer of shaders/common/tracer.glsl compiled as C++
 // and run over the pixels in parallel. The GLSL expects a few globals and
-// accessors; here they are members of NativeTracer, whose body includes the
+// accessors (NativeOctreeReader); the body of NativeTracer includes the
 // tracer source. The octree is packed once, when the renderer is made.
 #include <tbb/blocked_range2d.h>
 #include <tbb/info.h>
@@ -13,24 +13,7 @@
 
 namespace svo::math {
 
-struct NativeTracer {
-  SvoTraceParams params;
-  const uvec2* nodes;
-  const uint8_t* bricks;
-  const uvec4* masks;
-
-  uvec2 svo_node(uint index) const { return nodes[index]; }
-  uint svo_brick_bytes(uint brick, uint offset) const {
-    size_t at = size_t(brick) * params.pool.x + offset;
-    uint v;
-    std::memcpy(&v, bricks + (at & ~size_t(3)), 4);
-    return v >> ((at & 3u) * 8u);
-  }
-  uvec4 svo_mask(uint cell) const { return masks[cell]; }
-  // Every mode and flag open (tracer_params.glsl, "Specialisation").
-  static constexpr uint SVO_SPEC_MODE = SVO_SPEC_ANY;
-  static constexpr uint SVO_SPEC_FLAGS = SVO_SPEC_ANY;
-
+struct NativeTracer : render::NativeOctreeReader {
 #include "common/tracer.glsl"
 };
 
@@ -46,7 +29,7 @@ namespace {
 // "background", "gbuffer" (when the settings ask for it) and "steps".
 class NativeTracePass : public Pass {
  public:
-  explicit NativeTracePass(const octree::Octree& tree) : tree_(tree), packed_(pack_octree(tree)) {}
+  explicit NativeTracePass(const OctreeAccess& octree) : octree_(octree) {}
 
   std::string name() const override { return "trace"; }
   std::vector<ImageDesc> reads() const override { return {}; }
@@ -58,8 +41,7 @@ class NativeTracePass : public Pass {
     auto start = std::chrono::steady_clock::now();
     const RenderSettings& settings = ctx.settings;
     FrameImages& images = ctx.images;
-    svo::math::NativeTracer tracer{make_trace_params(tree_, packed_, settings), packed_.nodes.data(),
-                                         packed_.bricks.data(), tracer_mask_buffer().data()};
+    svo::math::NativeTracer tracer{octree_.native(octree_.params(settings))};
     auto colour = images.texels<glm::vec4>(images.write(colour_image()));
     auto background = images.texels<glm::vec4>(images.write(background_image()));
     auto steps = images.texels<uint32_t>(images.write(steps_image()));
@@ -85,14 +67,14 @@ class NativeTracePass : public Pass {
   }
 
  private:
-  const octree::Octree& tree_;
-  PackedOctree packed_;
+  const OctreeAccess& octree_;
 };
 
 }  // namespace
 
 NativeRenderer::NativeRenderer(const octree::Octree& tree) : Renderer(Host::Native, nullptr, nullptr) {
-  set_trace(std::make_unique<NativeTracePass>(tree));
+  set_octree(std::make_unique<OctreeAccess>(tree));
+  set_trace(std::make_unique<NativeTracePass>(octree()));
 }
 
 }  // namespace svo::render

@@ -232,7 +232,7 @@ Frame Renderer::render(const RenderSettings& requested) {
     for (const auto& r : passes_[i]->reads()) settings.gbuffer = settings.gbuffer || r.name == "gbuffer";
   }
   images_.begin_frame(settings.width, settings.height);
-  PassContext ctx{host_, images_, settings, context_};
+  PassContext ctx{host_, images_, settings, context_, *octree_};
   Frame frame;
   frame.width = settings.width;
   frame.height = settings.height;

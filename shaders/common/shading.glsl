@@ -207,17 +207,9 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   vec3 a_view = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v) : m.v.abar;
   s.radiance = vec3(params.ambient) * a_view;
   for (uint i = 0u; i < params.tree.w; ++i) {
-    vec4 lv = params.light_vector[i];
-    vec4 lr = params.light_radiance[i];
-    vec3 l = vec3(lv);
-    vec3 e = vec3(lr);
-    float dist = 3.0e38f;
-    if (lv.w > 0.5f) {
-      vec3 to = vec3(lv) - m.p;
-      dist = length(to);
-      l = to / max(dist, 1.0e-30f);
-      e = vec3(lr) / max(dist * dist, 1.0e-30f);
-    }
+    SvoLightSample light = svo_light_at(i, m.p);
+    vec3 l = light.l;
+    vec3 e = light.e;
     float ndl = dot(n, l);
     vec3 ll = vec3(dot(l, tx), dot(l, ty), ndl);
     // Lambert over the voxel's micro-slopes (beckmann.glsl; l.n with none):
@@ -226,8 +218,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     if (!(ndl > 0.0f) && !(lambert > 0.0f)) continue;
     float visible = 1.0f;
     if ((params.image.w & SVO_SPEC_FLAGS & SVO_FLAG_SHADOWS) != 0u) {
-      float spread = lv.w > 0.5f ? lr.w / max(dist, 1.0e-30f) : tan(lr.w);
-      SvoVisibility vis = svo_visibility(m.p, l, dist, m.radius, spread, ndl, mode);
+      SvoVisibility vis = svo_visibility(m.p, l, light.dist, m.radius, light.spread, ndl, mode);
       visible = vis.visible;
       s.steps += vis.steps;
     }

@@ -5,6 +5,34 @@
 #define SVO_VISIBILITY_GLSL
 #include "march.glsl"
 
+// Light i (params.light_*) seen from p: the unit direction towards it, the
+// irradiance it brings at normal incidence, its distance (3e38 for a
+// directional light) and the widening of a cone that covers it (per unit
+// distance).
+struct SvoLightSample {
+  vec3 l;
+  vec3 e;
+  float dist;
+  float spread;
+};
+
+SVO_FN SvoLightSample svo_light_at(uint i, vec3 p) {
+  vec4 lv = params.light_vector[i];
+  vec4 lr = params.light_radiance[i];
+  SvoLightSample s;
+  s.l = vec3(lv);
+  s.e = vec3(lr);
+  s.dist = 3.0e38f;
+  if (lv.w > 0.5f) {
+    vec3 to = vec3(lv) - p;
+    s.dist = length(to);
+    s.l = to / max(s.dist, 1.0e-30f);
+    s.e = vec3(lr) / max(s.dist * s.dist, 1.0e-30f);
+  }
+  s.spread = lv.w > 0.5f ? lr.w / max(s.dist, 1.0e-30f) : tan(lr.w);
+  return s;
+}
+
 struct SvoVisibility {
   float visible;  // unoccluded fraction of the shadow cone's footprint
   uint steps;

@@ -10,6 +10,7 @@
 #include "../render/test_scenes.h"
 #include "svo/render/image_io.h"
 #include "svo/render/pass.h"
+#include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 
 namespace svo::render {
@@ -225,6 +226,42 @@ TEST_F(PassesOnBothHosts, AnAovFileHoldsTheNamedImage) {
     EXPECT_THROW(write_aov(dir + "/nope.exr", *r, "nope"), std::invalid_argument);
     EXPECT_THROW(write_aov(dir + "/g.png", *r, "gbuffer"), ImageError);
   }
+}
+
+// A pass that traces cones through the octree from G-buffer points: the
+// sphere's lit side sees the light, its far side is shadowed by the sphere
+// itself, on both hosts alike.
+TEST_F(PassesOnBothHosts, TheVisibilityPassTracesConesFromGBufferPointsOnBothHosts) {
+  RenderSettings s = settings({2.5f, 0.0f, 0.3f});
+  s.lights = {Light{false, {0, 0, 1}, {3, 3, 3}, 0.02f}};  // from +z: the camera sees the terminator
+  std::vector<std::vector<glm::vec4>> seen;
+  Frame f;
+  for (auto& r : renderers_) {
+    r->add_pass(make_pass("visibility"));
+    RenderSettings g = s;
+    g.gbuffer = true;
+    f = r->render(g);
+    ASSERT_EQ(f.passes.size(), 2u);
+    EXPECT_EQ(f.passes[1].name, "visibility");
+    auto v = r->images().texels<const glm::vec4>(r->images().read(VisibilityPass::visibility_image()));
+    seen.emplace_back(v.begin(), v.begin() + std::ptrdiff_t(f.colour.size()));
+  }
+  int lit = 0, lit_visible = 0, dark = 0, dark_hidden = 0, apart = 0;
+  for (size_t i = 0; i < f.colour.size(); ++i) {
+    apart += std::abs(seen[0][i].x - seen[1][i].x) > 0.02f ? 1 : 0;
+    EXPECT_EQ(glm::vec3(seen[0][i].y, seen[0][i].z, seen[0][i].w), glm::vec3(1.0f)) << "absent lights, pixel " << i;
+    const GBufferTexel& t = f.gbuffer[i];
+    if (t.coverage < 1) continue;
+    const float ndl = glm::normalize(t.normal).z;
+    if (ndl > 0.3f) lit += 1, lit_visible += seen[0][i].x > 0.9f ? 1 : 0;
+    if (ndl < -0.3f) dark += 1, dark_hidden += seen[0][i].x < 0.1f ? 1 : 0;
+  }
+  EXPECT_LE(apart, int(f.colour.size()) / 100) << "the hosts disagree";
+  ASSERT_GT(lit, 30);
+  ASSERT_GT(dark, 30);
+  EXPECT_GE(lit_visible, lit * 95 / 100);
+  EXPECT_GE(dark_hidden, dark * 95 / 100);
+  EXPECT_THROW(make_pass("nope"), std::invalid_argument);
 }
 
 TEST(ImageDesc, ScaleAndLevelsGiveTheSizes) {

@@ -27,6 +27,7 @@
 namespace svo::render {
 
 struct RenderSettings;
+class OctreeAccess;
 
 enum class Host { Native, Vulkan };
 const char* host_name(Host host);  // "native", "vulkan"
@@ -125,6 +126,7 @@ struct PassContext {
   FrameImages& images;
   const RenderSettings& settings;  // as the frame runs them (the G-buffer on when a pass reads it)
   vk::Context* vulkan = nullptr;   // the device on the Vulkan host, null on the native host
+  const OctreeAccess& octree;      // the octree, for passes that trace cones through it
 };
 
 class Pass {

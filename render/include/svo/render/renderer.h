@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "svo/octree/octree.h"
+#include "svo/render/octree_access.h"
 #include "svo/render/pass.h"
 #include "svo/render/vk_context.h"
 
@@ -178,8 +179,10 @@ class Renderer {
 
  protected:
   Renderer(Host host, vk::Context* context, std::unique_ptr<vk::Context> owned);
-  void set_trace(std::unique_ptr<Pass> trace);  // the first pass; called once by the host's constructor
-  const Pass& first_pass() const { return *passes_.front(); }
+  // Called once each by the host's constructor, in this order.
+  void set_octree(std::unique_ptr<OctreeAccess> octree) { octree_ = std::move(octree); }
+  void set_trace(std::unique_ptr<Pass> trace);  // the first pass
+  const OctreeAccess& octree() const { return *octree_; }
   vk::Context* vulkan() const { return context_; }
 
  private:
@@ -187,6 +190,7 @@ class Renderer {
   vk::Context* context_;
   Host host_;
   std::string device_name_, device_type_;
+  std::unique_ptr<OctreeAccess> octree_;
   std::vector<std::unique_ptr<Pass>> passes_;
   std::map<std::string, ImageDesc> written_;  // images the chain writes so far
   DisplayPass display_;

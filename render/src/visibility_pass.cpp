@@ -1,0 +1,66 @@
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+
+#include "svo/render/octree_access.h"
+#include "svo/render/passes.h"
+#include "svo/render/renderer.h"
+#include "visibility_address.comp.spv.h"
+#include "visibility_single.comp.spv.h"
+#include "visibility_switch.comp.spv.h"
+
+namespace svo::math {
+
+struct NativeVisibility : render::NativeOctreeReader {
+#include "common/visibility_pass.glsl"
+};
+
+}  // namespace svo::math
+
+namespace svo::render {
+
+VisibilityPass::VisibilityPass() = default;
+VisibilityPass::~VisibilityPass() = default;
+
+double VisibilityPass::run(PassContext& ctx) {
+  const OctreeAccess& octree = ctx.octree;
+  const TraceParams params = octree.params(ctx.settings);
+  ImageMemory& in = ctx.images.read(gbuffer_image());
+  ImageMemory& out = ctx.images.write(visibility_image());
+  const uint32_t count = ctx.images.width() * ctx.images.height();
+  if (ctx.host == Host::Vulkan) {
+    if (!kernel_) {
+      std::span<const uint32_t> spirv = svo_spv_visibility_single_comp;
+      if (octree.pool_access() == PoolAccess::Address) spirv = svo_spv_visibility_address_comp;
+      if (octree.pool_access() == PoolAccess::Switch) spirv = svo_spv_visibility_switch_comp;
+      kernel_ = std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 2 + octree.binding_count(), 0);
+    }
+    std::vector<const vk::Buffer*> bound{in.buffer(), out.buffer()};
+    octree.bind(params, bound);
+    return kernel_->dispatch(bound, nullptr, (count + 63) / 64);
+  }
+  auto start = std::chrono::steady_clock::now();
+  svo::math::NativeVisibility kernel{octree.native(params)};
+  const auto* g = static_cast<const glm::vec4*>(in.data());
+  auto* visible = static_cast<glm::vec4*>(out.data());
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t i = r.begin(); i != r.end(); ++i) {
+      const glm::vec4* t = g + kGBufferVec4s * i;
+      visible[i] = kernel.svo_visibility_texel(svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]));
+    }
+  });
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<std::string> pass_names() { return {"visibility"}; }
+
+std::unique_ptr<Pass> make_pass(const std::string& name) {
+  if (name == "visibility") return std::make_unique<VisibilityPass>();
+  std::string names;
+  for (const auto& n : pass_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown pass '" + name + "' (passes: " + names + ")");
+}
+
+}  // namespace svo::render
