@@ -70,8 +70,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   add_size_options(*cmd, a->view);
   cmd->add_option("--gbuffer", a->gbuffer,
-                  "Also write the G-buffer as one float .exr: depth, P.x/y/z, N.x/y/z, slope_variance, abar.R/G/B, "
-                  "coverage")
+                  "Also write the G-buffer as one float .exr: depth, P (position), N (filtered normal), T (tangent), "
+                  "slope_cov (xx, yy, xy in the frame T, N x T: the voxels' and the footprint's, without sigma_rho2), "
+                  "sigma_rho2, abar, a_s, coverage (shaders/common/gbuffer.glsl)")
       ->group("Output");
   cmd->add_option("--steps", a->steps,
                   "Also write the cone elements visited per pixel (shadow cones included) as a one-channel float "
