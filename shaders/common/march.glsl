@@ -122,7 +122,8 @@ SVO_FN SvoMarch svo_march_start(float t) {
 
 // One cone element from m.t: skips a region the octree knows to be empty,
 // or samples the voxel under the element and computes its coverage mask.
-SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
+// Advances m in place.
+SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
   // Elements shorter than a quarter of the finest voxel see nothing new,
   // unless detail octaves are drawn: then a quarter of the finest drawn
@@ -149,7 +150,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     m.hit = false;
     m.mask = uvec4(0u);
     m.t += 2.0f * half_length;
-    return m;
+    return;
   }
   uint lo = mode == SVO_MODE_NEAREST ? uint(floor(df + 0.5f)) : uint(floor(df));
   float w = mode == SVO_MODE_NEAREST ? 0.0f : df - float(lo);
@@ -160,7 +161,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     // Empty at this level: jump to where the ray leaves the empty box.
     float exit = svo_box_exit(cone.o, cone.inv_d, m.lo_cell.lo, m.lo_cell.size);
     m.t = max(m.t + 2.0f * half_length, exit + 1.0e-5f * m.lo_cell.size);
-    return m;
+    return;
   }
   SvoVoxel v;
   m.blend = 0.0f;
@@ -250,7 +251,6 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     advance = max(advance, half_length + (jump >= 0.0f ? jump : 0.8f * (v.hbar - r)));
   }
   m.t += advance;
-  return m;
 }
 
 #endif

@@ -2,7 +2,11 @@
 // C++20 with GLM (see shared_math.h). Rules for the files here:
 //  - functions are declared SVO_FN, constants SVO_CONST;
 //  - float literals carry the f suffix (C++ would otherwise compute in double);
-//  - no arrays, no out/inout parameters: return a struct filled field by field;
+//  - no arrays, no out parameters: return a struct filled field by field;
+//  - a function that updates a large struct in place takes it as SVO_INOUT(T)
+//    (GLSL inout, C++ a reference), so that C++ does not copy it in and out;
+//    a large struct only read takes SVO_IN(T) (GLSL in, C++ a const
+//    reference), and the function must not assign to it;
 //  - GLSL built-ins only where GLM has the same name and meaning.
 #ifndef SVO_PRELUDE_GLSL
 #define SVO_PRELUDE_GLSL
@@ -10,9 +14,13 @@
 #ifdef __cplusplus
 #define SVO_FN inline
 #define SVO_CONST constexpr
+#define SVO_INOUT(T) T&
+#define SVO_IN(T) const T&
 #else
 #define SVO_FN
 #define SVO_CONST const
+#define SVO_INOUT(T) inout T
+#define SVO_IN(T) in T
 #endif
 
 SVO_CONST float SVO_PI = 3.14159265358979f;
