@@ -126,6 +126,82 @@ SVO_FN uint svo_sample_index(uvec3 i) {
   return (i.z * S + i.y) * S + i.x;
 }
 
+// The eight lattice samples around p in the brick of `cell`: corner k
+// (bit 0: +x, bit 1: +y, bit 2: +z) is sample `first` + svo_corner_offset(k),
+// with trilinear weight svo_corner_weight(f, k).
+struct SvoCorners {
+  uint first;  // sample index of corner 0
+  vec3 f;      // p's fractions from corner 0 towards corner 7, in [0, 1]
+};
+SVO_FN SvoCorners svo_corners(SvoCell cell, vec3 p) {
+  vec3 c = svo_local(cell, p);
+  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
+  SvoCorners k;
+  k.f = c - i0f;
+  k.first = svo_sample_index(uvec3(i0f));
+  return k;
+}
+
+SVO_FN uint svo_corner_offset(uint k) {
+  uint S = params.tree.x + 1u;
+  return (k & 1u) + ((k >> 1u) & 1u) * S + (k >> 2u) * S * S;
+}
+
+// The weights of the trilinear interpolation, as svo_sample_trilinear takes
+// them: the product of (1 - f) or f per axis.
+SVO_FN float svo_corner_weight(vec3 f, uint k) {
+  float wx = (k & 1u) != 0u ? f.x : 1.0f - f.x;
+  float wy = (k & 2u) != 0u ? f.y : 1.0f - f.y;
+  float wz = (k & 4u) != 0u ? f.z : 1.0f - f.z;
+  return wx * wy * wz;
+}
+
+// The distance hbar alone, interpolated as svo_sample_trilinear does (same
+// weights, same order of the sum: the same value).
+SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
+  SvoCorners c = svo_corners(cell, p);
+  uint at = params.offsets_a.x + c.first * 4u;
+  float r = svo_corner_weight(c.f, 0u) * uintBitsToFloat(svo_brick_bytes(cell.brick, at));
+  for (uint k = 1u; k < 8u; ++k) {
+    r += svo_corner_weight(c.f, k) * uintBitsToFloat(svo_brick_bytes(cell.brick, at + 4u * svo_corner_offset(k)));
+  }
+  return r;
+}
+
+// Unit normal of lattice sample s ((0, 0, 1) when the file has none).
+SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
+  if (params.offsets_a.y == SVO_ABSENT) return vec3(0.0f, 0.0f, 1.0f);
+  return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
+}
+
+// The interpolated normal at p and, when `along` is set, its derivative
+// along the world direction q, from one fetch of the eight corners: the
+// values of svo_sample_trilinear(cell, p, SVO_PART_NORMAL).n and
+// svo_normal_change(cell, p, q, q).d1 (same terms, same order).
+struct SvoNormalAlong {
+  vec3 n;
+  vec3 dn;  // zero unless `along`
+};
+SVO_FN SvoNormalAlong svo_sample_normal_along(SvoCell cell, vec3 p, vec3 q, bool along) {
+  SvoCorners c = svo_corners(cell, p);
+  float inv_voxel = float(params.tree.x) / cell.size;
+  SvoNormalAlong r;
+  r.n = vec3(0.0f);
+  r.dn = vec3(0.0f);
+  for (uint k = 0u; k < 8u; ++k) {
+    vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
+    vec3 n = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+    r.n = k == 0u ? w.x * w.y * w.z * n : r.n + w.x * w.y * w.z * n;
+    if (along) {
+      vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
+      vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+      r.dn += dot(grad, q) * n;
+    }
+  }
+  return r;
+}
+
 // Trilinear interpolation of the brick's lattice at p.
 SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
   vec3 c = svo_local(cell, p);
