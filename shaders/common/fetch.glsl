@@ -4,6 +4,7 @@
 // descent from the root to the node holding a point.
 #ifndef SVO_FETCH_GLSL
 #define SVO_FETCH_GLSL
+#include "masks.glsl"
 #include "tracer_params.glsl"
 #include "voxel_codec.glsl"
 
@@ -41,6 +42,14 @@ SVO_FN uint svo_byte(uint brick, uint offset) {
   return svo_brick_bytes(brick, offset) & 255u;
 }
 
+// The decodes of voxel_codec.glsl through the tables of the mask buffer
+// (masks.glsl): the same values, built on the host by the same formulas.
+SVO_FN float svo_table_srgb8(uint b) { return svo_decode_table(SVO_TABLE_SRGB8, b & 255u); }
+SVO_FN float svo_table_u8_log_relative(uint b, float scale) {
+  return scale * svo_decode_table(SVO_TABLE_U8_LOG, b & 255u);
+}
+SVO_FN float svo_table_u8_log_slope(uint b) { return svo_table_u8_log_relative(b, 16.0f); }
+
 // What svo_fetch decodes: most cone elements need the distance only, the
 // mask needs the normal too, and only elements that reach the pixel need the
 // shading attributes.
@@ -59,7 +68,7 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
     // Relative to the voxel size unless stored as f32 (svo_sample_trilinear scales it).
     float sh = params.encodings.x == SVO_ENC_F32
                    ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
-                   : svo_decode_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
+                   : svo_table_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
     v.sh2 = sh * sh;
   }
   if ((parts & SVO_PART_NORMAL) == 0u) return v;
@@ -70,20 +79,20 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   if ((parts & SVO_PART_SHADING) == 0u) return v;
   if (params.offsets_b.x != SVO_ABSENT) {
     uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
-    float sx = svo_decode_u8_log_slope(b & 255u);
-    float sy = svo_decode_u8_log_slope((b >> 8u) & 255u);
+    float sx = svo_table_u8_log_slope(b & 255u);
+    float sy = svo_table_u8_log_slope((b >> 8u) & 255u);
     float rho = svo_decode_s8((b >> 16u) & 255u);
     v.cov = vec3(sx * sx, sy * sy, rho * sx * sy);
   } else if (params.offsets_a.w != SVO_ABSENT) {
     float sd = params.encodings.y == SVO_ENC_F32
                    ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
-                   : svo_decode_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
+                   : svo_table_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
     v.cov = vec3(sd * sd, sd * sd, 0.0f);
   }
   v.abar = vec3(params.constant_colour);
   if (params.offsets_b.y != SVO_ABSENT) {
     uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
-    v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
+    v.abar = vec3(svo_table_srgb8(b & 255u), svo_table_srgb8((b >> 8u) & 255u), svo_table_srgb8((b >> 16u) & 255u));
   }
   if (params.offsets_b.z != SVO_ABSENT) {
     uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);

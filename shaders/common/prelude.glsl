@@ -1,6 +1,7 @@
 // The dialect of shaders/common/: a subset of GLSL 4.60 that also compiles as
 // C++20 with GLM (see shared_math.h). Rules for the files here:
-//  - functions are declared SVO_FN, constants SVO_CONST;
+//  - functions are declared SVO_FN, constants SVO_CONST (static in C++, so
+//    that a host may include a file inside a struct, as the tracer's hosts do);
 //  - float literals carry the f suffix (C++ would otherwise compute in double);
 //  - no arrays, no out parameters: return a struct filled field by field;
 //  - a function that updates a large struct in place takes it as SVO_INOUT(T)
@@ -13,7 +14,7 @@
 
 #ifdef __cplusplus
 #define SVO_FN inline
-#define SVO_CONST constexpr
+#define SVO_CONST static constexpr
 #define SVO_INOUT(T) T&
 #define SVO_IN(T) const T&
 #else
