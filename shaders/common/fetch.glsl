@@ -65,7 +65,7 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   v.a_s = vec3(0.0f);
   if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
   if ((parts & SVO_PART_HEIGHT) != 0u && params.offsets_a.z != SVO_ABSENT) {
-    // Relative to the voxel size unless stored as f32 (svo_sample_trilinear scales it).
+    // Relative to the voxel size unless stored as f32 (svo_sample_shading scales it).
     float sh = params.encodings.x == SVO_ENC_F32
                    ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
                    : svo_table_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
@@ -156,8 +156,8 @@ SVO_FN uint svo_corner_offset(uint k) {
   return (k & 1u) + ((k >> 1u) & 1u) * S + (k >> 2u) * S * S;
 }
 
-// The weights of the trilinear interpolation, as svo_sample_trilinear takes
-// them: the product of (1 - f) or f per axis.
+// The weight of corner k in the trilinear interpolation: the product of
+// (1 - f) or f per axis.
 SVO_FN float svo_corner_weight(vec3 f, uint k) {
   float wx = (k & 1u) != 0u ? f.x : 1.0f - f.x;
   float wy = (k & 2u) != 0u ? f.y : 1.0f - f.y;
@@ -165,8 +165,8 @@ SVO_FN float svo_corner_weight(vec3 f, uint k) {
   return wx * wy * wz;
 }
 
-// The distance hbar alone, interpolated as svo_sample_trilinear does (same
-// weights, same order of the sum: the same value).
+// The distance hbar alone, interpolated as svo_sample_shading interpolates
+// it (same weights, same order of the sum: the same value).
 SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
   SvoCorners c = svo_corners(cell, p);
   uint at = params.offsets_a.x + c.first * 4u;
@@ -185,8 +185,8 @@ SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
 
 // The interpolated normal at p and, when `along` is set, its derivative
 // along the world direction q, from one fetch of the eight corners: the
-// values of svo_sample_trilinear(cell, p, SVO_PART_NORMAL).n and
-// svo_normal_change(cell, p, q, q).d1 (same terms, same order).
+// normal of svo_sample_shading (same terms, same order) and its dn * q up
+// to rounding (here summed per corner).
 struct SvoNormalAlong {
   vec3 n;
   vec3 dn;  // zero unless `along`
@@ -211,52 +211,56 @@ SVO_FN SvoNormalAlong svo_sample_normal_along(SvoCell cell, vec3 p, vec3 q, bool
   return r;
 }
 
-// Trilinear interpolation of the brick's lattice at p.
-SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
-  vec3 c = svo_local(cell, p);
-  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
-  vec3 f = c - i0f;
-  uvec3 i0 = uvec3(i0f);
-  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
-  for (uint k = 1u; k < 8u; ++k) {
-    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
-    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
-    r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
+// The trilinear interpolation of the brick's lattice at p (the fields in
+// `parts`) and, when `jacobian` is set, the derivatives of the interpolated
+// normal: the derivatives of the interpolation weights applied to the
+// eight corners' unit normals. One fetch of each corner serves both.
+struct SvoShadingSample {
+  SvoVoxel v;
+  mat3 dn;  // column a: the normal's change along world axis a, per scene unit; zero unless `jacobian`
+};
+SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian) {
+  SvoCorners c = svo_corners(cell, p);
+  float inv_voxel = float(params.tree.x) / cell.size;
+  SvoShadingSample r;
+  r.dn = mat3(0.0f);
+  SvoVoxel s = svo_fetch(cell.brick, c.first, parts);
+  r.v = svo_voxel_scaled(s, svo_corner_weight(c.f, 0u));
+  for (uint k = 0u; k < 8u; ++k) {
+    vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
+    if (k > 0u) {
+      s = svo_fetch(cell.brick, c.first + svo_corner_offset(k), parts);
+      r.v = svo_voxel_madd(r.v, s, w.x * w.y * w.z);
+    }
+    if (jacobian) {
+      vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
+      vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+      r.dn[0] += grad.x * s.n;
+      r.dn[1] += grad.y * s.n;
+      r.dn[2] += grad.z * s.n;
+    }
   }
   if (params.encodings.x != SVO_ENC_F32) {
     float voxel = cell.size / float(params.tree.x);
-    r.sh2 *= voxel * voxel;
+    r.v.sh2 *= voxel * voxel;
   }
   return r;
 }
 
-// How the trilinearly interpolated normal of a level changes along world
-// directions q1 and q2 at p: the derivatives of the interpolation weights
-// applied to the cell's 8 unit normals.
+// Two levels' samples blended: (1 - w) a + w b.
+SVO_FN SvoShadingSample svo_shading_sample_blend(SvoShadingSample a, SvoShadingSample b, float w) {
+  SvoShadingSample r;
+  r.v = svo_voxel_madd(svo_voxel_scaled(a.v, 1.0f - w), b.v, w);
+  r.dn = mat3(mix(a.dn[0], b.dn[0], w), mix(a.dn[1], b.dn[1], w), mix(a.dn[2], b.dn[2], w));
+  return r;
+}
+
+// How the interpolated normal changes along world directions q1 and q2.
 struct SvoNormalChange {
   vec3 d1;
   vec3 d2;
 };
-SVO_FN SvoNormalChange svo_normal_change(SvoCell cell, vec3 p, vec3 q1, vec3 q2) {
-  vec3 c = svo_local(cell, p);
-  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
-  vec3 f = c - i0f;
-  uvec3 i0 = uvec3(i0f);
-  float inv_voxel = float(params.tree.x) / cell.size;
-  SvoNormalChange r;
-  r.d1 = vec3(0.0f);
-  r.d2 = vec3(0.0f);
-  for (uint k = 0u; k < 8u; ++k) {
-    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
-    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
-    vec3 dw = mix(vec3(-1.0f), vec3(1.0f), vec3(o));
-    vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
-    vec3 n = svo_fetch(cell.brick, svo_sample_index(i0 + o), SVO_PART_NORMAL).n;
-    r.d1 += dot(grad, q1) * n;
-    r.d2 += dot(grad, q2) * n;
-  }
-  return r;
-}
 
 // Slope variance a level's voxel already holds along the surface: the
 // spread over its box footprint (s^2 / 12 per axis); none at the finest
