@@ -144,10 +144,10 @@ struct SvoCorners {
 };
 SVO_FN SvoCorners svo_corners(SvoCell cell, vec3 p) {
   vec3 c = svo_local(cell, p);
-  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
+  uvec3 i0 = min(uvec3(c), uvec3(params.tree.x - 1u));  // c >= 0: truncation is floor
   SvoCorners k;
-  k.f = c - i0f;
-  k.first = svo_sample_index(uvec3(i0f));
+  k.f = c - vec3(i0);
+  k.first = svo_sample_index(i0);
   return k;
 }
 

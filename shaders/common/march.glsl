@@ -152,7 +152,8 @@ SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
     m.t += 2.0f * half_length;
     return;
   }
-  uint lo = mode == SVO_MODE_NEAREST ? uint(floor(df + 0.5f)) : uint(floor(df));
+  // df >= 0: truncation is floor.
+  uint lo = mode == SVO_MODE_NEAREST ? uint(df + 0.5f) : uint(df);
   float w = mode == SVO_MODE_NEAREST ? 0.0f : df - float(lo);
   if (!svo_cell_holds(m.lo_cell, p, lo)) m.lo_cell = svo_lookup(p, lo);
   m.hit = false;
