@@ -101,6 +101,7 @@ std::vector<Mask> tracer_buffer(const MaskTable& table) {
   };
   decode_table([](uint32_t byte) { return svo::math::svo_decode_srgb8(byte); });
   decode_table([](uint32_t byte) { return svo::math::svo_decode_u8_log_relative(byte, 1.0f); });
+  decode_table([](uint32_t byte) { return svo::math::svo_decode_s8(byte); });
   return b;
 }
 

@@ -49,6 +49,55 @@ SVO_FN float svo_table_u8_log_relative(uint b, float scale) {
   return scale * svo_decode_table(SVO_TABLE_U8_LOG, b & 255u);
 }
 SVO_FN float svo_table_u8_log_slope(uint b) { return svo_table_u8_log_relative(b, 16.0f); }
+SVO_FN float svo_table_s8(uint b) { return svo_decode_table(SVO_TABLE_S8, b & 255u); }
+
+// The channels of lattice sample s of a brick, one by one; a channel the
+// file lacks reads as svo_fetch fills it.
+// sigma_h^2, relative to the voxel size unless stored as f32 (svo_sample_shading scales it).
+SVO_FN float svo_fetch_sh2(uint brick, uint s) {
+  if (params.offsets_a.z == SVO_ABSENT) return 0.0f;
+  float sh = params.encodings.x == SVO_ENC_F32 ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
+                                               : svo_table_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
+  return sh * sh;
+}
+
+// The unit normal ((0, 0, 1) when the file has none).
+SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
+  if (params.offsets_a.y == SVO_ABSENT) return vec3(0.0f, 0.0f, 1.0f);
+  return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
+}
+
+// The slope covariance (xx, yy, xy).
+SVO_FN vec3 svo_fetch_cov(uint brick, uint s) {
+  if (params.offsets_b.x != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
+    float sx = svo_table_u8_log_slope(b & 255u);
+    float sy = svo_table_u8_log_slope((b >> 8u) & 255u);
+    float rho = svo_table_s8((b >> 16u) & 255u);
+    return vec3(sx * sx, sy * sy, rho * sx * sy);
+  }
+  if (params.offsets_a.w != SVO_ABSENT) {
+    float sd = params.encodings.y == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
+                   : svo_table_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
+    return vec3(sd * sd, sd * sd, 0.0f);
+  }
+  return vec3(0.0f);
+}
+
+// The mean colour, linear (params.constant_colour when the file has none).
+SVO_FN vec3 svo_fetch_abar(uint brick, uint s) {
+  if (params.offsets_b.y == SVO_ABSENT) return vec3(params.constant_colour);
+  uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
+  return vec3(svo_table_srgb8(b & 255u), svo_table_srgb8((b >> 8u) & 255u), svo_table_srgb8((b >> 16u) & 255u));
+}
+
+// The colour-height correlation.
+SVO_FN vec3 svo_fetch_a_s(uint brick, uint s) {
+  if (params.offsets_b.z == SVO_ABSENT) return vec3(0.0f);
+  uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
+  return vec3(svo_table_s8(b & 255u), svo_table_s8((b >> 8u) & 255u), svo_table_s8((b >> 16u) & 255u));
+}
 
 // What svo_fetch decodes: most cone elements need the distance only, the
 // mask needs the normal too, and only elements that reach the pixel need the
@@ -64,40 +113,13 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   v.abar = vec3(0.0f);
   v.a_s = vec3(0.0f);
   if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
-  if ((parts & SVO_PART_HEIGHT) != 0u && params.offsets_a.z != SVO_ABSENT) {
-    // Relative to the voxel size unless stored as f32 (svo_sample_shading scales it).
-    float sh = params.encodings.x == SVO_ENC_F32
-                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
-                   : svo_table_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
-    v.sh2 = sh * sh;
-  }
+  if ((parts & SVO_PART_HEIGHT) != 0u) v.sh2 = svo_fetch_sh2(brick, s);
   if ((parts & SVO_PART_NORMAL) == 0u) return v;
-  v.n = vec3(0.0f, 0.0f, 1.0f);
-  if (params.offsets_a.y != SVO_ABSENT) {
-    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
-  }
+  v.n = svo_fetch_normal(brick, s);
   if ((parts & SVO_PART_SHADING) == 0u) return v;
-  if (params.offsets_b.x != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
-    float sx = svo_table_u8_log_slope(b & 255u);
-    float sy = svo_table_u8_log_slope((b >> 8u) & 255u);
-    float rho = svo_decode_s8((b >> 16u) & 255u);
-    v.cov = vec3(sx * sx, sy * sy, rho * sx * sy);
-  } else if (params.offsets_a.w != SVO_ABSENT) {
-    float sd = params.encodings.y == SVO_ENC_F32
-                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
-                   : svo_table_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
-    v.cov = vec3(sd * sd, sd * sd, 0.0f);
-  }
-  v.abar = vec3(params.constant_colour);
-  if (params.offsets_b.y != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
-    v.abar = vec3(svo_table_srgb8(b & 255u), svo_table_srgb8((b >> 8u) & 255u), svo_table_srgb8((b >> 16u) & 255u));
-  }
-  if (params.offsets_b.z != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
-    v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
-  }
+  v.cov = svo_fetch_cov(brick, s);
+  v.abar = svo_fetch_abar(brick, s);
+  v.a_s = svo_fetch_a_s(brick, s);
   return v;
 }
 
@@ -177,12 +199,6 @@ SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
   return r;
 }
 
-// Unit normal of lattice sample s ((0, 0, 1) when the file has none).
-SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
-  if (params.offsets_a.y == SVO_ABSENT) return vec3(0.0f, 0.0f, 1.0f);
-  return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
-}
-
 // The interpolated normal at p and, when `along` is set, its derivative
 // along the world direction q, from one fetch of the eight corners: the
 // normal of svo_sample_shading (same terms, same order) and its dn * q up
@@ -222,23 +238,51 @@ struct SvoShadingSample {
 SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian) {
   SvoCorners c = svo_corners(cell, p);
   float inv_voxel = float(params.tree.x) / cell.size;
+  bool distance = (parts & SVO_PART_DISTANCE) != 0u;
+  bool height = (parts & SVO_PART_HEIGHT) != 0u;
+  bool normal = (parts & SVO_PART_NORMAL) != 0u;
+  bool shading = normal && (parts & SVO_PART_SHADING) != 0u;
   SvoShadingSample r;
+  r.v.hbar = 0.0f;
+  r.v.sh2 = 0.0f;
+  r.v.n = vec3(0.0f);
+  r.v.cov = vec3(0.0f);
+  r.v.abar = vec3(0.0f);
+  r.v.a_s = vec3(0.0f);
   r.dn = mat3(0.0f);
-  SvoVoxel s = svo_fetch(cell.brick, c.first, parts);
-  r.v = svo_voxel_scaled(s, svo_corner_weight(c.f, 0u));
+  // Each field is the sum of its corners' terms in the order of k (the
+  // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
+    uint s = c.first + svo_corner_offset(k);
     vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
     vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
-    if (k > 0u) {
-      s = svo_fetch(cell.brick, c.first + svo_corner_offset(k), parts);
-      r.v = svo_voxel_madd(r.v, s, w.x * w.y * w.z);
+    float wk = w.x * w.y * w.z;
+    bool first = k == 0u;
+    if (distance) {
+      float x = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u));
+      r.v.hbar = first ? wk * x : r.v.hbar + wk * x;
+    }
+    if (height) {
+      float x = svo_fetch_sh2(cell.brick, s);
+      r.v.sh2 = first ? wk * x : r.v.sh2 + wk * x;
+    }
+    if (!normal) continue;
+    vec3 n = svo_fetch_normal(cell.brick, s);
+    r.v.n = first ? wk * n : r.v.n + wk * n;
+    if (shading) {
+      vec3 cov = svo_fetch_cov(cell.brick, s);
+      vec3 abar = svo_fetch_abar(cell.brick, s);
+      vec3 a_s = svo_fetch_a_s(cell.brick, s);
+      r.v.cov = first ? wk * cov : r.v.cov + wk * cov;
+      r.v.abar = first ? wk * abar : r.v.abar + wk * abar;
+      r.v.a_s = first ? wk * a_s : r.v.a_s + wk * a_s;
     }
     if (jacobian) {
       vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
       vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
-      r.dn[0] += grad.x * s.n;
-      r.dn[1] += grad.y * s.n;
-      r.dn[2] += grad.z * s.n;
+      r.dn[0] += grad.x * n;
+      r.dn[1] += grad.y * n;
+      r.dn[2] += grad.z * n;
     }
   }
   if (params.encodings.x != SVO_ENC_F32) {

@@ -8,7 +8,8 @@
 //   SVO_MASK_POINTS + [0, 64)    the 128 footprint points, two to an entry;
 //   SVO_MASK_POINTS + 64, 65     their sums (x, y, x^2, y^2; x y);
 //   SVO_TABLE_SRGB8 + [0, 64)    256 floats: Srgb8 byte to linear;
-//   SVO_TABLE_U8_LOG + [0, 64)   256 floats: U8LogRelative byte, scale 1.
+//   SVO_TABLE_U8_LOG + [0, 64)   256 floats: U8LogRelative byte, scale 1;
+//   SVO_TABLE_S8 + [0, 64)       256 floats: Signed8 byte.
 #ifndef SVO_MASKS_GLSL
 #define SVO_MASKS_GLSL
 #include "cone_mask.glsl"
@@ -17,6 +18,7 @@
 SVO_CONST uint SVO_MASK_POINTS = SVO_MASK_BINS * SVO_MASK_BINS;
 SVO_CONST uint SVO_TABLE_SRGB8 = SVO_MASK_POINTS + 66u;
 SVO_CONST uint SVO_TABLE_U8_LOG = SVO_TABLE_SRGB8 + 64u;
+SVO_CONST uint SVO_TABLE_S8 = SVO_TABLE_U8_LOG + 64u;
 
 // Entry `b` (a byte) of the decode table that starts at entry `table`.
 SVO_FN float svo_decode_table(uint table, uint b) {
