@@ -39,8 +39,7 @@ SVO_FN uvec4 svo_mask_lookup(SvoMaskParams mp) {
 }
 
 SVO_FN int svo_popcount(uvec4 m) {
-  ivec4 c = bitCount(m);
-  return c.x + c.y + c.z + c.w;
+  return svo_bit_count(m.x) + svo_bit_count(m.y) + svo_bit_count(m.z) + svo_bit_count(m.w);
 }
 
 // Footprint point i of the mask bits (unit disk; render::tracer_mask_buffer
@@ -76,7 +75,7 @@ SVO_FN SvoFootprintPart svo_footprint_part(uvec4 bits) {
   for (int k = 0; k < 4; ++k) {
     uint w = b[k];
     while (w != 0u) {
-      vec2 q = svo_mask_point(uint(k) * 32u + uint(findLSB(w)));
+      vec2 q = svo_mask_point(uint(k) * 32u + uint(svo_find_lsb(w)));
       w &= w - 1u;
       s1 += q;
       s2 += vec3(q.x * q.x, q.y * q.y, q.x * q.y);

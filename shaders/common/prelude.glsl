@@ -24,6 +24,21 @@
 #define SVO_IN(T) in T
 #endif
 
+// bitCount and findLSB of one word: GLSL's built-ins; in C++ the same
+// results without GLM's generic loops over bit fields.
+#ifdef __cplusplus
+SVO_FN int svo_bit_count(uint x) {
+  x = x - ((x >> 1u) & 0x55555555u);
+  x = (x & 0x33333333u) + ((x >> 2u) & 0x33333333u);
+  x = (x + (x >> 4u)) & 0x0F0F0F0Fu;
+  return int((x * 0x01010101u) >> 24u);
+}
+SVO_FN int svo_find_lsb(uint x) { return x == 0u ? -1 : __builtin_ctz(x); }
+#else
+SVO_FN int svo_bit_count(uint x) { return bitCount(x); }
+SVO_FN int svo_find_lsb(uint x) { return findLSB(x); }
+#endif
+
 SVO_CONST float SVO_PI = 3.14159265358979f;
 SVO_CONST float SVO_SQRT_PI = 1.77245385090552f;
 SVO_CONST float SVO_SQRT2 = 1.41421356237310f;
