@@ -92,6 +92,16 @@ std::vector<Mask> tracer_buffer(const MaskTable& table) {
   }
   b.push_back(Mask(bits(sum.x), bits(sum.y), bits(squares.x), bits(squares.y)));
   b.push_back(Mask(bits(squares.z), 0u, 0u, 0u));
+  // The decode tables, each value computed by the formula the tracer would
+  // otherwise evaluate per byte (voxel_codec.glsl).
+  auto decode_table = [&](auto decode) {
+    for (uint32_t i = 0; i < 256; i += 4) {
+      b.push_back(Mask(bits(decode(i)), bits(decode(i + 1)), bits(decode(i + 2)), bits(decode(i + 3))));
+    }
+  };
+  decode_table([](uint32_t byte) { return svo::math::svo_decode_srgb8(byte); });
+  decode_table([](uint32_t byte) { return svo::math::svo_decode_u8_log_relative(byte, 1.0f); });
+  decode_table([](uint32_t byte) { return svo::math::svo_decode_s8(byte); });
   return b;
 }
 

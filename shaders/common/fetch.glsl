@@ -4,6 +4,7 @@
 // descent from the root to the node holding a point.
 #ifndef SVO_FETCH_GLSL
 #define SVO_FETCH_GLSL
+#include "masks.glsl"
 #include "tracer_params.glsl"
 #include "voxel_codec.glsl"
 
@@ -41,6 +42,63 @@ SVO_FN uint svo_byte(uint brick, uint offset) {
   return svo_brick_bytes(brick, offset) & 255u;
 }
 
+// The decodes of voxel_codec.glsl through the tables of the mask buffer
+// (masks.glsl): the same values, built on the host by the same formulas.
+SVO_FN float svo_table_srgb8(uint b) { return svo_decode_table(SVO_TABLE_SRGB8, b & 255u); }
+SVO_FN float svo_table_u8_log_relative(uint b, float scale) {
+  return scale * svo_decode_table(SVO_TABLE_U8_LOG, b & 255u);
+}
+SVO_FN float svo_table_u8_log_slope(uint b) { return svo_table_u8_log_relative(b, 16.0f); }
+SVO_FN float svo_table_s8(uint b) { return svo_decode_table(SVO_TABLE_S8, b & 255u); }
+
+// The channels of lattice sample s of a brick, one by one; a channel the
+// file lacks reads as svo_fetch fills it.
+// sigma_h^2, relative to the voxel size unless stored as f32 (svo_sample_shading scales it).
+SVO_FN float svo_fetch_sh2(uint brick, uint s) {
+  if (params.offsets_a.z == SVO_ABSENT) return 0.0f;
+  float sh = params.encodings.x == SVO_ENC_F32 ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
+                                               : svo_table_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
+  return sh * sh;
+}
+
+// The unit normal ((0, 0, 1) when the file has none).
+SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
+  if (params.offsets_a.y == SVO_ABSENT) return vec3(0.0f, 0.0f, 1.0f);
+  return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
+}
+
+// The slope covariance (xx, yy, xy).
+SVO_FN vec3 svo_fetch_cov(uint brick, uint s) {
+  if (params.offsets_b.x != SVO_ABSENT) {
+    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
+    float sx = svo_table_u8_log_slope(b & 255u);
+    float sy = svo_table_u8_log_slope((b >> 8u) & 255u);
+    float rho = svo_table_s8((b >> 16u) & 255u);
+    return vec3(sx * sx, sy * sy, rho * sx * sy);
+  }
+  if (params.offsets_a.w != SVO_ABSENT) {
+    float sd = params.encodings.y == SVO_ENC_F32
+                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
+                   : svo_table_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
+    return vec3(sd * sd, sd * sd, 0.0f);
+  }
+  return vec3(0.0f);
+}
+
+// The mean colour, linear (params.constant_colour when the file has none).
+SVO_FN vec3 svo_fetch_abar(uint brick, uint s) {
+  if (params.offsets_b.y == SVO_ABSENT) return vec3(params.constant_colour);
+  uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
+  return vec3(svo_table_srgb8(b & 255u), svo_table_srgb8((b >> 8u) & 255u), svo_table_srgb8((b >> 16u) & 255u));
+}
+
+// The colour-height correlation.
+SVO_FN vec3 svo_fetch_a_s(uint brick, uint s) {
+  if (params.offsets_b.z == SVO_ABSENT) return vec3(0.0f);
+  uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
+  return vec3(svo_table_s8(b & 255u), svo_table_s8((b >> 8u) & 255u), svo_table_s8((b >> 16u) & 255u));
+}
+
 // What svo_fetch decodes: most cone elements need the distance only, the
 // mask needs the normal too, and only elements that reach the pixel need the
 // shading attributes.
@@ -55,40 +113,13 @@ SVO_FN SvoVoxel svo_fetch(uint brick, uint s, uint parts) {
   v.abar = vec3(0.0f);
   v.a_s = vec3(0.0f);
   if ((parts & SVO_PART_DISTANCE) != 0u) v.hbar = uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.x + s * 4u));
-  if ((parts & SVO_PART_HEIGHT) != 0u && params.offsets_a.z != SVO_ABSENT) {
-    // Relative to the voxel size unless stored as f32 (svo_sample_trilinear scales it).
-    float sh = params.encodings.x == SVO_ENC_F32
-                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.z + s * 4u))
-                   : svo_decode_u8_log_relative(svo_byte(brick, params.offsets_a.z + s), 1.0f);
-    v.sh2 = sh * sh;
-  }
+  if ((parts & SVO_PART_HEIGHT) != 0u) v.sh2 = svo_fetch_sh2(brick, s);
   if ((parts & SVO_PART_NORMAL) == 0u) return v;
-  v.n = vec3(0.0f, 0.0f, 1.0f);
-  if (params.offsets_a.y != SVO_ABSENT) {
-    v.n = svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
-  }
+  v.n = svo_fetch_normal(brick, s);
   if ((parts & SVO_PART_SHADING) == 0u) return v;
-  if (params.offsets_b.x != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.x + s * 4u);
-    float sx = svo_decode_u8_log_slope(b & 255u);
-    float sy = svo_decode_u8_log_slope((b >> 8u) & 255u);
-    float rho = svo_decode_s8((b >> 16u) & 255u);
-    v.cov = vec3(sx * sx, sy * sy, rho * sx * sy);
-  } else if (params.offsets_a.w != SVO_ABSENT) {
-    float sd = params.encodings.y == SVO_ENC_F32
-                   ? uintBitsToFloat(svo_brick_bytes(brick, params.offsets_a.w + s * 4u))
-                   : svo_decode_u8_log_slope(svo_byte(brick, params.offsets_a.w + s));
-    v.cov = vec3(sd * sd, sd * sd, 0.0f);
-  }
-  v.abar = vec3(params.constant_colour);
-  if (params.offsets_b.y != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.y + s * 4u);
-    v.abar = vec3(svo_decode_srgb8(b & 255u), svo_decode_srgb8((b >> 8u) & 255u), svo_decode_srgb8((b >> 16u) & 255u));
-  }
-  if (params.offsets_b.z != SVO_ABSENT) {
-    uint b = svo_brick_bytes(brick, params.offsets_b.z + s * 4u);
-    v.a_s = vec3(svo_decode_s8(b & 255u), svo_decode_s8((b >> 8u) & 255u), svo_decode_s8((b >> 16u) & 255u));
-  }
+  v.cov = svo_fetch_cov(brick, s);
+  v.abar = svo_fetch_abar(brick, s);
+  v.a_s = svo_fetch_a_s(brick, s);
   return v;
 }
 
@@ -126,52 +157,154 @@ SVO_FN uint svo_sample_index(uvec3 i) {
   return (i.z * S + i.y) * S + i.x;
 }
 
-// Trilinear interpolation of the brick's lattice at p.
-SVO_FN SvoVoxel svo_sample_trilinear(SvoCell cell, vec3 p, uint parts) {
+// The eight lattice samples around p in the brick of `cell`: corner k
+// (bit 0: +x, bit 1: +y, bit 2: +z) is sample `first` + svo_corner_offset(k),
+// with trilinear weight svo_corner_weight(f, k).
+struct SvoCorners {
+  uint first;  // sample index of corner 0
+  vec3 f;      // p's fractions from corner 0 towards corner 7, in [0, 1]
+};
+SVO_FN SvoCorners svo_corners(SvoCell cell, vec3 p) {
   vec3 c = svo_local(cell, p);
-  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
-  vec3 f = c - i0f;
-  uvec3 i0 = uvec3(i0f);
-  SvoVoxel r = svo_voxel_scaled(svo_fetch(cell.brick, svo_sample_index(i0), parts), (1.0f - f.x) * (1.0f - f.y) * (1.0f - f.z));
+  uvec3 i0 = min(uvec3(c), uvec3(params.tree.x - 1u));  // c >= 0: truncation is floor
+  SvoCorners k;
+  k.f = c - vec3(i0);
+  k.first = svo_sample_index(i0);
+  return k;
+}
+
+SVO_FN uint svo_corner_offset(uint k) {
+  uint S = params.tree.x + 1u;
+  return (k & 1u) + ((k >> 1u) & 1u) * S + (k >> 2u) * S * S;
+}
+
+// The weight of corner k in the trilinear interpolation: the product of
+// (1 - f) or f per axis.
+SVO_FN float svo_corner_weight(vec3 f, uint k) {
+  float wx = (k & 1u) != 0u ? f.x : 1.0f - f.x;
+  float wy = (k & 2u) != 0u ? f.y : 1.0f - f.y;
+  float wz = (k & 4u) != 0u ? f.z : 1.0f - f.z;
+  return wx * wy * wz;
+}
+
+// The distance hbar alone, interpolated as svo_sample_shading interpolates
+// it (same weights, same order of the sum: the same value).
+SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
+  SvoCorners c = svo_corners(cell, p);
+  uint at = params.offsets_a.x + c.first * 4u;
+  float r = svo_corner_weight(c.f, 0u) * uintBitsToFloat(svo_brick_bytes(cell.brick, at));
   for (uint k = 1u; k < 8u; ++k) {
-    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
-    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
-    r = svo_voxel_madd(r, svo_fetch(cell.brick, svo_sample_index(i0 + o), parts), w.x * w.y * w.z);
-  }
-  if (params.encodings.x != SVO_ENC_F32) {
-    float voxel = cell.size / float(params.tree.x);
-    r.sh2 *= voxel * voxel;
+    r += svo_corner_weight(c.f, k) * uintBitsToFloat(svo_brick_bytes(cell.brick, at + 4u * svo_corner_offset(k)));
   }
   return r;
 }
 
-// How the trilinearly interpolated normal of a level changes along world
-// directions q1 and q2 at p: the derivatives of the interpolation weights
-// applied to the cell's 8 unit normals.
+// The interpolated normal at p and, when `along` is set, its derivative
+// along the world direction q, from one fetch of the eight corners: the
+// normal of svo_sample_shading (same terms, same order) and its dn * q up
+// to rounding (here summed per corner).
+struct SvoNormalAlong {
+  vec3 n;
+  vec3 dn;  // zero unless `along`
+};
+SVO_FN SvoNormalAlong svo_sample_normal_along(SvoCell cell, vec3 p, vec3 q, bool along) {
+  SvoCorners c = svo_corners(cell, p);
+  float inv_voxel = float(params.tree.x) / cell.size;
+  SvoNormalAlong r;
+  r.n = vec3(0.0f);
+  r.dn = vec3(0.0f);
+  for (uint k = 0u; k < 8u; ++k) {
+    vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
+    vec3 n = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+    r.n = k == 0u ? w.x * w.y * w.z * n : r.n + w.x * w.y * w.z * n;
+    if (along) {
+      vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
+      vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+      r.dn += dot(grad, q) * n;
+    }
+  }
+  return r;
+}
+
+// The trilinear interpolation of the brick's lattice at p (the fields in
+// `parts`) and, when `jacobian` is set, the derivatives of the interpolated
+// normal: the derivatives of the interpolation weights applied to the
+// eight corners' unit normals. One fetch of each corner serves both.
+struct SvoShadingSample {
+  SvoVoxel v;
+  mat3 dn;  // column a: the normal's change along world axis a, per scene unit; zero unless `jacobian`
+};
+SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian) {
+  SvoCorners c = svo_corners(cell, p);
+  float inv_voxel = float(params.tree.x) / cell.size;
+  bool distance = (parts & SVO_PART_DISTANCE) != 0u;
+  bool height = (parts & SVO_PART_HEIGHT) != 0u;
+  bool normal = (parts & SVO_PART_NORMAL) != 0u;
+  bool shading = normal && (parts & SVO_PART_SHADING) != 0u;
+  SvoShadingSample r;
+  r.v.hbar = 0.0f;
+  r.v.sh2 = 0.0f;
+  r.v.n = vec3(0.0f);
+  r.v.cov = vec3(0.0f);
+  r.v.abar = vec3(0.0f);
+  r.v.a_s = vec3(0.0f);
+  r.dn = mat3(0.0f);
+  // Each field is the sum of its corners' terms in the order of k (the
+  // first term alone, not added to zero: the sign of a zero is kept).
+  for (uint k = 0u; k < 8u; ++k) {
+    uint s = c.first + svo_corner_offset(k);
+    vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
+    float wk = w.x * w.y * w.z;
+    bool first = k == 0u;
+    if (distance) {
+      float x = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u));
+      r.v.hbar = first ? wk * x : r.v.hbar + wk * x;
+    }
+    if (height) {
+      float x = svo_fetch_sh2(cell.brick, s);
+      r.v.sh2 = first ? wk * x : r.v.sh2 + wk * x;
+    }
+    if (!normal) continue;
+    vec3 n = svo_fetch_normal(cell.brick, s);
+    r.v.n = first ? wk * n : r.v.n + wk * n;
+    if (shading) {
+      vec3 cov = svo_fetch_cov(cell.brick, s);
+      vec3 abar = svo_fetch_abar(cell.brick, s);
+      vec3 a_s = svo_fetch_a_s(cell.brick, s);
+      r.v.cov = first ? wk * cov : r.v.cov + wk * cov;
+      r.v.abar = first ? wk * abar : r.v.abar + wk * abar;
+      r.v.a_s = first ? wk * a_s : r.v.a_s + wk * a_s;
+    }
+    if (jacobian) {
+      vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
+      vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+      r.dn[0] += grad.x * n;
+      r.dn[1] += grad.y * n;
+      r.dn[2] += grad.z * n;
+    }
+  }
+  if (params.encodings.x != SVO_ENC_F32) {
+    float voxel = cell.size / float(params.tree.x);
+    r.v.sh2 *= voxel * voxel;
+  }
+  return r;
+}
+
+// Two levels' samples blended: (1 - w) a + w b.
+SVO_FN SvoShadingSample svo_shading_sample_blend(SvoShadingSample a, SvoShadingSample b, float w) {
+  SvoShadingSample r;
+  r.v = svo_voxel_madd(svo_voxel_scaled(a.v, 1.0f - w), b.v, w);
+  r.dn = mat3(mix(a.dn[0], b.dn[0], w), mix(a.dn[1], b.dn[1], w), mix(a.dn[2], b.dn[2], w));
+  return r;
+}
+
+// How the interpolated normal changes along world directions q1 and q2.
 struct SvoNormalChange {
   vec3 d1;
   vec3 d2;
 };
-SVO_FN SvoNormalChange svo_normal_change(SvoCell cell, vec3 p, vec3 q1, vec3 q2) {
-  vec3 c = svo_local(cell, p);
-  vec3 i0f = min(floor(c), vec3(float(params.tree.x - 1u)));
-  vec3 f = c - i0f;
-  uvec3 i0 = uvec3(i0f);
-  float inv_voxel = float(params.tree.x) / cell.size;
-  SvoNormalChange r;
-  r.d1 = vec3(0.0f);
-  r.d2 = vec3(0.0f);
-  for (uint k = 0u; k < 8u; ++k) {
-    uvec3 o = uvec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
-    vec3 w = mix(vec3(1.0f) - f, f, vec3(o));
-    vec3 dw = mix(vec3(-1.0f), vec3(1.0f), vec3(o));
-    vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
-    vec3 n = svo_fetch(cell.brick, svo_sample_index(i0 + o), SVO_PART_NORMAL).n;
-    r.d1 += dot(grad, q1) * n;
-    r.d2 += dot(grad, q2) * n;
-  }
-  return r;
-}
 
 // Slope variance a level's voxel already holds along the surface: the
 // spread over its box footprint (s^2 / 12 per axis); none at the finest

@@ -124,7 +124,8 @@ SVO_FN SvoMarch svo_march_start(float t) {
 
 // One cone element from m.t: skips a region the octree knows to be empty,
 // or samples the voxel under the element and computes its coverage mask.
-SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
+// Advances m in place.
+SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
   float r = svo_cone_radius(cone, m.t);
   // Elements shorter than a quarter of the finest voxel see nothing new,
   // unless detail octaves are drawn: then a quarter of the finest drawn
@@ -151,9 +152,10 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     m.hit = false;
     m.mask = uvec4(0u);
     m.t += 2.0f * half_length;
-    return m;
+    return;
   }
-  uint lo = mode == SVO_MODE_NEAREST ? uint(floor(df + 0.5f)) : uint(floor(df));
+  // df >= 0: truncation is floor.
+  uint lo = mode == SVO_MODE_NEAREST ? uint(df + 0.5f) : uint(df);
   float w = mode == SVO_MODE_NEAREST ? 0.0f : df - float(lo);
   if (!svo_cell_holds(m.lo_cell, p, lo)) m.lo_cell = svo_lookup(p, lo);
   m.hit = false;
@@ -162,7 +164,7 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     // Empty at this level: jump to where the ray leaves the empty box.
     float exit = svo_box_exit(cone.o, cone.inv_d, m.lo_cell.lo, m.lo_cell.size);
     m.t = max(m.t + 2.0f * half_length, exit + 1.0e-5f * m.lo_cell.size);
-    return m;
+    return;
   }
   SvoVoxel v;
   m.blend = 0.0f;
@@ -173,12 +175,17 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
   } else {
     // The distance first: an element farther than its radius and half length
     // from the mean plane covers nothing, whatever the normal.
-    v = svo_sample_trilinear(m.lo_cell, p, SVO_PART_DISTANCE);
+    v.hbar = svo_sample_distance(m.lo_cell, p);
+    v.sh2 = 0.0f;
+    v.n = vec3(0.0f);
+    v.cov = vec3(0.0f);
+    v.abar = vec3(0.0f);
+    v.a_s = vec3(0.0f);
     if (w > 0.0f && lo < last) {
       if (!svo_cell_holds(m.hi_cell, p, lo + 1u)) m.hi_cell = svo_lookup(p, lo + 1u);
       if (m.hi_cell.brick != SVO_ABSENT) {
         m.blend = w;
-        v.hbar = mix(v.hbar, svo_sample_trilinear(m.hi_cell, p, SVO_PART_DISTANCE).hbar, w);
+        v.hbar = mix(v.hbar, svo_sample_distance(m.hi_cell, p), w);
       }
     }
     // Detail octaves finer than the finest level, coarser than the element:
@@ -212,9 +219,17 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
       }
     }
     if (v.hbar < half_length + r) {
-      v.n = svo_sample_trilinear(m.lo_cell, p, SVO_PART_NORMAL).n;
-      if (m.blend > 0.0f) v.n = mix(v.n, svo_sample_trilinear(m.hi_cell, p, SVO_PART_NORMAL).n, m.blend);
-      v.n = svo_detail_tilt(v.n, vec3(detail));
+      // The normal, and its change along the axis where curved masks need
+      // it (below), from one fetch of each level's corners.
+      bool curved = (params.image.w & SVO_FLAG_CURVED_MASKS) != 0u;
+      bool along = curved && (mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA) && r > 1.0e-6f * params.domain.w;
+      SvoNormalAlong na = svo_sample_normal_along(m.lo_cell, p, cone.d, along);
+      if (m.blend > 0.0f) {
+        SvoNormalAlong nh = svo_sample_normal_along(m.hi_cell, p, cone.d, along);
+        na.n = mix(na.n, nh.n, m.blend);
+        na.dn = mix(na.dn, nh.dn, m.blend);
+      }
+      v.n = svo_detail_tilt(na.n, vec3(detail));
       float nl = length(v.n);
       vec3 n = nl > 0.0f ? v.n / nl : -cone.d;
       vec3 nc = vec3(dot(n, cone.frame.t), dot(n, cone.frame.b), dot(n, cone.d));
@@ -230,12 +245,8 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
       // per-triangle normals turn at triangle edges, not with the surface
       // (the bunny's close view lost 6% with the correction there).
       float kappa = 0.0f;
-      bool curved = (params.image.w & SVO_FLAG_CURVED_MASKS) != 0u;
-      if (curved && (mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA) && nl > 0.0f &&
-          r > 1.0e-6f * params.domain.w) {
-        vec3 dn = svo_normal_change(m.lo_cell, p, cone.d, cone.d).d1;
-        if (m.blend > 0.0f) dn = mix(dn, svo_normal_change(m.hi_cell, p, cone.d, cone.d).d1, m.blend);
-        kappa = max(dot(cone.d, dn) / max(nl, 0.5f), 0.0f) * clamp(2.0f * r / params.material.z - 0.5f, 0.0f, 1.0f);
+      if (along && nl > 0.0f) {
+        kappa = max(dot(cone.d, na.dn) / max(nl, 0.5f), 0.0f) * clamp(2.0f * r / params.material.z - 0.5f, 0.0f, 1.0f);
       }
       m.mask = svo_mask_lookup(svo_cone_mask_params_curved(nc, v.hbar, r, half_length, kappa));
     }
@@ -252,7 +263,6 @@ SVO_FN SvoMarch svo_step(SvoMarch m, SvoCone cone, uint mode) {
     advance = max(advance, half_length + (jump >= 0.0f ? jump : 0.8f * (v.hbar - r)));
   }
   m.t += advance;
-  return m;
 }
 
 #endif

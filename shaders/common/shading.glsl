@@ -20,22 +20,21 @@
 // stretches along the ray by 1 / |d.n| (at most 1 / min_cosine), and the
 // interpolated normal changes along it at the rate the lattice gives.
 // Scaled by params.material.w (`svo render --footprint-spread`, default 1:
-// the second-order theory).
-SVO_FN vec3 svo_footprint_slope_covariance(SvoMarch m, vec3 dir, vec3 nh, float n_length, vec3 spread) {
+// the second-order theory). `jacobian`: the derivatives of the normal
+// field at m.p, its levels blended as m's (svo_sample_shading).
+SVO_FN vec3 svo_footprint_slope_covariance(SVO_IN(SvoMarch) m, vec3 dir, vec3 nh, float n_length, vec3 spread,
+                                           mat3 jacobian) {
   const float min_cosine = 0.2f;
   SvoFrame across = svo_tangent_frame(dir);
   float dn = dot(dir, nh);
   dn = dn >= 0.0f ? max(dn, min_cosine) : min(dn, -min_cosine);
   vec3 q1 = across.t - (dot(across.t, nh) / dn) * dir;
   vec3 q2 = across.b - (dot(across.b, nh) / dn) * dir;
-  SvoNormalChange g = svo_normal_change(m.lo_cell, m.p, q1, q2);
+  SvoNormalChange g;
+  g.d1 = jacobian * q1;
+  g.d2 = jacobian * q2;
   float own = svo_voxel_spread(m.lo_cell);
-  if (m.blend > 0.0f) {
-    SvoNormalChange gh = svo_normal_change(m.hi_cell, m.p, q1, q2);
-    g.d1 = mix(g.d1, gh.d1, m.blend);
-    g.d2 = mix(g.d2, gh.d2, m.blend);
-    own = mix(own, svo_voxel_spread(m.hi_cell), m.blend);
-  }
+  if (m.blend > 0.0f) own = mix(own, svo_voxel_spread(m.hi_cell), m.blend);
   // Positional variance along each stretched axis beyond the voxels' own,
   // per unit of |q|^2 (the derivatives are per unit of q); the covariance
   // of the two shrinks with them.
@@ -135,10 +134,14 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     }
     bool detail = svo_draws_detail(m.radius);
     uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
-    SvoVoxel a = svo_sample_trilinear(m.lo_cell, m.p, parts);
+    // The attributes and, for the footprint's spread below, the normal's
+    // derivatives, from one fetch of each level's corners.
+    bool spread = footprinted && params.material.w > 0.0f;
+    SvoShadingSample sampled = svo_sample_shading(m.lo_cell, m.p, parts, spread);
     if (m.blend > 0.0f) {
-      a = svo_voxel_madd(svo_voxel_scaled(a, 1.0f - m.blend), svo_sample_trilinear(m.hi_cell, m.p, parts), m.blend);
+      sampled = svo_shading_sample_blend(sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread), m.blend);
     }
+    SvoVoxel a = sampled.v;
     // A cone's elements see different parts of a wide footprint: along a
     // grazing cone each element's bits are where the surface meets it, near
     // its own centre, not at the point the elements share. Cones of at least
@@ -159,7 +162,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     // with 1; docs/RESULTS.md, "The far view after four additions").
     float na = length(a.n);
     if (footprinted && params.material.w > 0.0f && na > 0.0f) {
-      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, part.spread);
+      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, part.spread, sampled.dn);
       a.cov += footprint;
     }
     if (detail) {

@@ -58,7 +58,7 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   uint steps = 0u;
   while (m.t < t1 && steps < params.tree.z) {
     steps += 1u;
-    m = svo_step(m, cone, mode);
+    svo_step(m, cone, mode);
     if (!m.hit) continue;
     // Weight of this element: the bits it sets first, or its opacity in alpha mode.
     float weight;

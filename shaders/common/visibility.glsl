@@ -54,7 +54,7 @@ SVO_FN SvoVisibility svo_visibility(vec3 p, vec3 l, float dist, float r0, float 
   float opacity = 0.0f;
   while (m.t < t1 && vis.steps < SVO_SHADOW_STEPS) {
     vis.steps += 1u;
-    m = svo_step(m, cone, mode);
+    svo_step(m, cone, mode);
     if (!m.hit) continue;
     if (mode == SVO_MODE_ALPHA) {
       opacity += (1.0f - opacity) * float(svo_popcount(m.mask)) / 128.0f;

@@ -97,7 +97,7 @@ TEST(MaskTable, CorrelatedElementsKeepAHalfCoveredPixelAtOneHalf) {
 // disk's exact moments, which the points approach.
 TEST(MaskTable, TheTracerReadsTheCentreAndSpreadOfAnyBits) {
   const std::vector<Mask> buffer = tracer_buffer(table());
-  ASSERT_EQ(buffer.size(), table().masks.size() + kMaskBits / 2 + 2);
+  ASSERT_EQ(buffer.size(), table().masks.size() + kMaskBits / 2 + 2 + 3 * 64);
   svo::math::MaskBufferReader reader;
   reader.masks = buffer.data();
   std::mt19937 rng(7);
@@ -140,5 +140,31 @@ TEST(MaskTable, TheTracerReadsTheCentreAndSpreadOfAnyBits) {
   EXPECT_NEAR(half.centre.y, 0.0, 0.03);
 }
 
-}  // namespace
+// The decode tables at the end of the buffer (masks.glsl): the tracer's
+// table decode of every byte equals the formula of voxel_codec.glsl, bit
+// for bit, for each encoding and scale the tracer reads.
+TEST(MaskTable, TheTracerDecodeTablesEqualTheFormulas) {
+  const std::vector<Mask> buffer = tracer_buffer(table());
+  ASSERT_EQ(buffer.size(), size_t(svo::math::MaskBufferReader::SVO_TABLE_S8) + 64);
+  svo::math::MaskBufferReader reader;
+  reader.masks = buffer.data();
+  for (uint32_t b = 0; b < 256; ++b) {
+    EXPECT_EQ(reader.svo_table_srgb8(b), svo::math::svo_decode_srgb8(b)) << "Srgb8 byte " << b;
+    EXPECT_EQ(reader.svo_table_u8_log_relative(b, 1.0f), svo::math::svo_decode_u8_log_relative(b, 1.0f))
+        << "U8LogRelative byte " << b;
+    EXPECT_EQ(reader.svo_table_u8_log_relative(b, 0.37f), svo::math::svo_decode_u8_log_relative(b, 0.37f))
+        << "U8LogRelative byte " << b << ", scale 0.37";
+    EXPECT_EQ(reader.svo_table_u8_log_slope(b), svo::math::svo_decode_u8_log_slope(b)) << "U8LogSlope byte " << b;
+    EXPECT_EQ(reader.svo_table_s8(b), svo::math::svo_decode_s8(b)) << "Signed8 byte " << b;
+    // Only the low byte is read.
+    EXPECT_EQ(reader.svo_table_srgb8(b | 0x1200u), svo::math::svo_decode_srgb8(b)) << "Srgb8 byte " << b;
+  }
+  EXPECT_EQ(reader.svo_table_srgb8(0u), 0.0f);
+  EXPECT_EQ(reader.svo_table_srgb8(255u), 1.0f);
+  EXPECT_EQ(reader.svo_table_u8_log_relative(0u, 1.0f), 0.0f);
+  EXPECT_EQ(reader.svo_table_u8_log_relative(255u, 1.0f), 1.0f);
+  EXPECT_EQ(reader.svo_table_s8(127u), 1.0f);
+  EXPECT_EQ(reader.svo_table_s8(129u), -1.0f);
+}
 
+}  // namespace

@@ -40,10 +40,13 @@ Mask lookup_mask(const MaskTable& table, float theta, float v);
 
 int popcount(const Mask& m);
 
-// The table as the tracers read it (tracer.glsl svo_mask, svo_mask_point):
-// its masks, then its points two to an entry (the bit patterns of x, y, x,
-// y), then the sums over all points of x, y, x^2, y^2 and of x y (one
-// entry and the first word of the next).
+// The table as the tracers read it (tracer.glsl svo_mask; masks.glsl
+// states the layout): its masks, then its points two to an entry (the bit
+// patterns of x, y, x, y), then the sums over all points of x, y, x^2, y^2
+// and of x y (one entry and the first word of the next), then three decode
+// tables of 256 floats, four to an entry, indexed by the byte: Srgb8 to
+// linear (svo_decode_srgb8), U8LogRelative of scale 1
+// (svo_decode_u8_log_relative(byte, 1)) and Signed8 (svo_decode_s8).
 std::vector<Mask> tracer_buffer(const MaskTable& table);
 
 }  // namespace svo::render
