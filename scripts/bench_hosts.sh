@@ -32,7 +32,7 @@ vdb_tool -read "$WORK/bunny.obj" -mesh2ls dim=504 -write "$WORK/bunny.vdb" > /de
 # ms of one render: median of 3 frames of one renderer (svo render --repeats 3).
 frame_ms() {
   "$SVO" render "$@" --width "$SIZE" --height "$SIZE" --repeats 3 --json |
-    python3 -c 'import json, sys; j = json.load(sys.stdin); print(f"{j[\"ms\"]:.0f} {j[\"steps_per_pixel\"]:.1f}")'
+    python3 -c 'import json, sys; j = json.load(sys.stdin); print("%.0f %.1f" % (j["ms"], j["steps_per_pixel"]))'
 }
 
 echo
