@@ -7,6 +7,9 @@
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# ccache: paths under the checkout count as relative, and the build folder
+# does not enter the hash, so that a fresh clone elsewhere reuses the cache.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 
 # Debian packages, one reason each.

@@ -5,6 +5,9 @@
 # e.g. scripts/test.sh -L numerics. SVO_SKIP_SANITIZE=1 skips the second pass.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# ccache: paths under the checkout count as relative, and the build folder
+# does not enter the hash, so that a fresh clone elsewhere reuses the cache.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 "$ROOT/scripts/setup.sh"
 (cd "$BUILD_DIR" && ctest -j2 --output-on-failure --timeout 600 "$@")

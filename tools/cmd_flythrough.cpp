@@ -109,7 +109,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1u, 100u))
       ->group("Timing");
   cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
-  cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command")
+  cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
+                "Vulkan device, lavapipe on a machine without a GPU)")
       ->group("Device");
 
   cmd->callback([a, &exit_code] {

@@ -138,7 +138,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
 
   auto* device = cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
   auto* validate =
-      cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command")
+      cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
+                "Vulkan device, lavapipe on a machine without a GPU)")
           ->group("Device");
   cmd->add_flag("--cpu", a->cpu, "The same as --device native")->excludes(device)->excludes(validate)->group("Device");
 

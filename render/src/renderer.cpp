@@ -289,7 +289,18 @@ std::string resolve_device(const std::string& device) {
 }
 
 std::unique_ptr<Renderer> make_renderer(const octree::Octree& tree, const DeviceOptions& options) {
-  const std::string device = resolve_device(options.device);
+  // Validation is Vulkan's: it asks for a Vulkan device (by default the best
+  // there is, lavapipe included).
+  if (options.validation && options.device == "native") {
+    throw std::invalid_argument("validation (--validate) needs a Vulkan device, not native");
+  }
+  std::string device;
+  if (options.validation && options.device.empty()) {
+    const std::vector<vk::DeviceInfo> devices = vk::list_devices();
+    device = std::to_string(devices[vk::select_device(devices, "")].index);
+  } else {
+    device = resolve_device(options.device);
+  }
   if (device == "native") return std::make_unique<NativeRenderer>(tree);
   return std::make_unique<GpuRenderer>(std::make_unique<vk::Context>(vk::ContextOptions{device, options.validation}),
                                        tree, options.gpu);

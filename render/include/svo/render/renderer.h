@@ -247,7 +247,9 @@ struct DeviceOptions {
 // devices there are when it matches none.
 std::string resolve_device(const std::string& device);
 
-// A renderer on the device `options` select. Throws vk::Error as resolve_device does.
+// A renderer on the device `options` select; with validation and no device
+// named, the best Vulkan device. Throws vk::Error as resolve_device does,
+// std::invalid_argument for validation on the native host.
 std::unique_ptr<Renderer> make_renderer(const octree::Octree& tree, const DeviceOptions& options);
 
 // One frame on the native host (for tests): NativeRenderer(tree).render(settings).
