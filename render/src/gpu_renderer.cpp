@@ -1,13 +1,12 @@
+// The Vulkan host: the octree's pools on the device and the trace pass as a
+// compute kernel (shaders/render/trace_main.glsl).
 #include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
-// The Vulkan host: the octree's pools on the device and the trace pass as a
-// compute kernel (shaders/render/trace_main.glsl).
 #include "svo/render/renderer.h"
 #include "svo/render/vk_compute.h"
 #include "common/shared_math.h"
