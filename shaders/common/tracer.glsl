@@ -33,10 +33,25 @@ struct SvoPixel {
   uint steps;
 };
 
+// The unit direction of the camera ray through `at` (pixel coordinates).
+SVO_FN vec3 svo_pixel_direction(vec2 at) {
+  vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
+  return normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+}
+
+// A pixel no element covers: the background alone.
+SVO_FN SvoPixel svo_background_pixel() {
+  SvoPixel px;
+  px.background = vec4(vec3(params.background), 1.0f);
+  px.colour = vec4(vec3(params.background), 0.0f);
+  px.g = svo_gbuffer_empty();
+  px.steps = 0u;
+  return px;
+}
+
 // One cone through `at` (pixel coordinates) with `k` radius per unit distance.
 SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
-  vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
-  vec3 d = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+  vec3 d = svo_pixel_direction(at);
   // The focus plane is perpendicular to the view axis at the focus distance
   // (a thin lens, as Camera::focus and the reference take it): along this
   // pixel's ray it lies 1 / cos(angle to the axis) farther.
@@ -135,6 +150,17 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   uint cone_mode = march ? SVO_MODE_PREFILTERED : mode;
   // Rays sample a footprint disk of the pixel's area, as the cone's.
   float radius = march ? 1.0f / SVO_SQRT_PI : 0.0f;
+  // A pinhole cone whose axis misses the domain meets nothing
+  // (svo_trace_cone tests the same box): the background, without the
+  // cone's set-up, which lavapipe would pay for in every SIMD group.
+  if (!march && !(params.cam_w.w > 0.0f)) {
+    vec3 d = svo_pixel_direction(vec2(pixel) + 0.5f);
+    vec3 inv_d = svo_safe_inverse(d);
+    float t0 = max(svo_box_entry(vec3(params.eye), inv_d, vec3(params.domain), params.domain.w), 0.0f);
+    if (!(t0 < svo_box_exit(vec3(params.eye), inv_d, vec3(params.domain), params.domain.w))) {
+      return svo_background_pixel();
+    }
+  }
   SvoPixel sum;
   sum.colour = vec4(0.0f);
   sum.background = vec4(0.0f);
