@@ -122,12 +122,13 @@ class TracePass : public Pass {
     return ms;
   }
 
-  // The pipeline specialised for the settings' mode, shadows and detail
+  // The pipeline specialised for the settings' mode, shadows, G-buffer and detail
   // (tracer_params.glsl, "Specialisation"), made at its first use.
   vk::ComputeKernel& kernel_for(const RenderSettings& settings) {
     using namespace svo::math;
     uint32_t flags = SVO_SPEC_ANY;
     if (!settings.shadows) flags &= ~SVO_FLAG_SHADOWS;
+    if (!settings.gbuffer) flags &= ~SVO_FLAG_GBUFFER;
     if (octree_.tree().detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
     const std::pair<uint32_t, uint32_t> key{uint32_t(settings.mode), flags};
     auto& kernel = kernels_[key];

@@ -66,7 +66,7 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   float t1 = svo_box_exit(cone.o, cone.inv_d, lo, params.domain.w + 2.0f * grow);
   SvoMarch m = svo_march_start(t0);
   vec3 radiance = vec3(0.0f);
-  bool gbuffer = (params.image.w & SVO_FLAG_GBUFFER) != 0u;
+  bool gbuffer = (params.image.w & SVO_SPEC_FLAGS & SVO_FLAG_GBUFFER) != 0u;
   SvoGBuffer g = svo_gbuffer_empty();
   uvec4 alpha = uvec4(0u);
   float coverage = 0.0f;

@@ -19,7 +19,7 @@ void main() {
   colour_out[i] = px.colour;
   background_out[i] = px.background;
   steps_out[i] = px.steps;
-  if ((params.image.w & SVO_FLAG_GBUFFER) != 0u) {
+  if ((params.image.w & SVO_SPEC_FLAGS & SVO_FLAG_GBUFFER) != 0u) {
     for (uint k = 0u; k < SVO_GBUFFER_VEC4S; ++k) gbuffer_out[SVO_GBUFFER_VEC4S * i + k] = svo_gbuffer_pack(px.g, k);
   }
 }
