@@ -93,8 +93,10 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   cmd->add_option("--video", a->video, "Also encode the frames to this video with ffmpeg (H.264 in .mp4)")
       ->group("Output");
-  cmd->add_option("--fps", a->fps, "Frame rate of --video")->default_val(30)->check(CLI::Range(1u, 240u))->group(
-      "Output");
+  cmd->add_option("--fps", a->fps, "Frame rate of --video")
+      ->default_val(30)
+      ->check(CLI::Range(1u, 240u))
+      ->group("Output");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: frames, ms, us per covered pixel (min, max, ratio), levels, file "
                 "size, ...")
@@ -109,21 +111,25 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1u, 100u))
       ->group("Timing");
   cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
-  cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
-                "Vulkan device, lavapipe on a machine without a GPU)")
+  cmd->add_flag(
+         "--validate", a->validate,
+         "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
+         "Vulkan device, lavapipe on a machine without a GPU)")
       ->group("Device");
 
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked without the octree or a device.
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
     if (!mode || *mode == render::Mode::RayMarch) {
-      throw std::invalid_argument("unknown mode '" + a->mode + "' for flythrough (modes: prefiltered, nearest, alpha, mip)");
+      throw std::invalid_argument("unknown mode '" + a->mode +
+                                  "' for flythrough (modes: prefiltered, nearest, alpha, mip)");
     }
     check_view_options(a->view);
     std::optional<render::CameraPath> loaded = check_path_options(a->path);
     if (!a->video.empty()) {
       if (!have_ffmpeg()) {
-        throw std::runtime_error("--video " + a->video + ": ffmpeg is not installed (not on PATH); encode DIR/frame_%04d.png later");
+        throw std::runtime_error("--video " + a->video +
+                                 ": ffmpeg is not installed (not on PATH); encode DIR/frame_%04d.png later");
       }
       render::check_writable_output(a->video);
     }
@@ -197,8 +203,10 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
           << r.us_per_pixel << ",";
       if (r.covered > 0) csv << r.us_per_covered_pixel;
       csv << "," << r.covered << "," << r.steps_per_pixel << ",";
-      if (r.levels.any) csv << r.levels.min << "," << r.levels.max;
-      else csv << ",";
+      if (r.levels.any)
+        csv << r.levels.min << "," << r.levels.max;
+      else
+        csv << ",";
       csv << "," << r.level_target << "\n";
     }
     write_text_atomically((dir / "frames.csv").string(), csv.str());
@@ -209,7 +217,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     }
     if (!a->video.empty()) {
       const fs::path video(a->video);
-      const std::string tmp = (video.parent_path() / ("." + video.stem().string() + ".tmp" + video.extension().string())).string();
+      const std::string tmp =
+          (video.parent_path() / ("." + video.stem().string() + ".tmp" + video.extension().string())).string();
       const std::string command = "ffmpeg -y -loglevel error -framerate " + std::to_string(a->fps) + " -i " +
                                   quoted((dir / "frame_%04d.png").string()) + " -frames:v " +
                                   std::to_string(cameras.size()) + " -c:v libx264 -pix_fmt yuv420p " + quoted(tmp);
@@ -232,31 +241,32 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     }
     const std::vector<std::string> messages = renderer.validation_messages();
     if (a->json) {
-      nlohmann::json out{{"file", a->input},
-                         {"file_bytes", file_bytes},
-                         {"out", a->out},
-                         {"frames", rows.size()},
-                         {"width", settings.width},
-                         {"height", settings.height},
-                         {"mode", render::mode_name(*mode)},
-                         {"path", a->path.path_file.empty() ? a->path.path : "file"},
-                         {"zoom", first_width / render::view_width(cameras.back())},
-                         {"total_ms", total_ms},
-                         {"us_per_covered_pixel_min", any ? nlohmann::json(lo) : nlohmann::json(nullptr)},
-                         {"us_per_covered_pixel_max", any ? nlohmann::json(hi) : nlohmann::json(nullptr)},
-                         {"us_per_covered_pixel_ratio", any && lo > 0 ? nlohmann::json(hi / lo) : nlohmann::json(nullptr)},
-                         {"finest_level", tree.depth_count - 1},
-                         {"level_target_last", rows.back().level_target},
-                         {"device", renderer.device_name()},
-                         {"device_type", renderer.device_type()},
-                         {"video", a->video.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->video)},
-                         {"validation_messages", messages}};
+      nlohmann::json out{
+          {"file", a->input},
+          {"file_bytes", file_bytes},
+          {"out", a->out},
+          {"frames", rows.size()},
+          {"width", settings.width},
+          {"height", settings.height},
+          {"mode", render::mode_name(*mode)},
+          {"path", a->path.path_file.empty() ? a->path.path : "file"},
+          {"zoom", first_width / render::view_width(cameras.back())},
+          {"total_ms", total_ms},
+          {"us_per_covered_pixel_min", any ? nlohmann::json(lo) : nlohmann::json(nullptr)},
+          {"us_per_covered_pixel_max", any ? nlohmann::json(hi) : nlohmann::json(nullptr)},
+          {"us_per_covered_pixel_ratio", any && lo > 0 ? nlohmann::json(hi / lo) : nlohmann::json(nullptr)},
+          {"finest_level", tree.depth_count - 1},
+          {"level_target_last", rows.back().level_target},
+          {"device", renderer.device_name()},
+          {"device_type", renderer.device_type()},
+          {"video", a->video.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->video)},
+          {"validation_messages", messages}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->out << ": " << rows.size()
                 << " frames " << settings.width << "x" << settings.height << " " << render::mode_name(*mode)
-                << ", zoom " << first_width / render::view_width(cameras.back()) << ", " << total_ms
-                << " ms " << (renderer.host() == render::Host::Native ? "native" : "GPU") << " in all";
+                << ", zoom " << first_width / render::view_width(cameras.back()) << ", " << total_ms << " ms "
+                << (renderer.host() == render::Host::Native ? "native" : "GPU") << " in all";
       if (any) {
         std::cout << std::setprecision(3) << ", us per covered pixel " << lo << " to " << hi << " (ratio "
                   << std::setprecision(2) << (lo > 0 ? hi / lo : 0.0) << ")";

@@ -31,7 +31,7 @@ struct RenderArgs {
   std::string gbuffer;
   std::string steps;
   std::string save_camera;
-  std::vector<std::string> aovs;  // NAME=FILE.exr
+  std::vector<std::string> aovs;    // NAME=FILE.exr
   std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
   std::string mode = "prefiltered";
@@ -138,8 +138,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
 
   auto* device = cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");
   auto* validate =
-      cmd->add_flag("--validate", a->validate, "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
-                "Vulkan device, lavapipe on a machine without a GPU)")
+      cmd->add_flag(
+             "--validate", a->validate,
+             "Vulkan: enable the Khronos validation layer; any message fails the command (without --device: the best "
+             "Vulkan device, lavapipe on a machine without a GPU)")
           ->group("Device");
   cmd->add_flag("--cpu", a->cpu, "The same as --device native")->excludes(device)->excludes(validate)->group("Device");
 
@@ -157,7 +159,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked without the octree or a device.
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
-    if (!mode) throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
+    if (!mode)
+      throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
     const uint32_t root = uint32_t(std::lround(std::sqrt(double(a->spp))));
     if (root * root != a->spp) throw std::invalid_argument("--spp " + std::to_string(a->spp) + " is not a square");
     if (a->spp != 1 && *mode != render::Mode::RayMarch) throw std::invalid_argument("--spp needs --mode raymarch");
@@ -173,7 +176,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     }
     if (!a->save_camera.empty()) render::check_writable_output(a->save_camera);
     for (const std::string& name : a->passes) render::make_pass(name);  // an unknown name fails here
-    std::vector<std::pair<std::string, std::string>> aovs;  // (image, path)
+    std::vector<std::pair<std::string, std::string>> aovs;              // (image, path)
     for (const std::string& aov : a->aovs) {
       const size_t eq = aov.find('=');
       if (eq == std::string::npos || eq == 0 || eq + 1 == aov.size()) {
@@ -190,12 +193,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
     // steps image's copy (4).
     {
       const double pixels = double(a->view.width) * double(a->view.height);
-      const bool gbuffer = !a->gbuffer.empty() || std::any_of(aovs.begin(), aovs.end(), [](const auto& x) {
-        return x.first == "gbuffer";
-      });
-      const double mib = pixels * (16 + 16 + 4 + 16 + (gbuffer ? 2 * 4 * 21 : 0) + (a->steps.empty() ? 0 : 4) +
-                                   16.0 * double(aovs.size())) /
-                         (1024.0 * 1024.0);
+      const bool gbuffer = !a->gbuffer.empty() ||
+                           std::any_of(aovs.begin(), aovs.end(), [](const auto& x) { return x.first == "gbuffer"; });
+      const double mib =
+          pixels *
+          (16 + 16 + 4 + 16 + (gbuffer ? 2 * 4 * 21 : 0) + (a->steps.empty() ? 0 : 4) + 16.0 * double(aovs.size())) /
+          (1024.0 * 1024.0);
       const double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
       if (limit > 0 && mib > limit) {
         throw std::runtime_error("a " + std::to_string(a->view.width) + "x" + std::to_string(a->view.height) +
@@ -269,7 +272,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     // Per covered pixel (DESIGN section 9); -1 when nothing is covered.
     const double us_per_pixel = frame.covered_pixels > 0 ? ms * 1000.0 / double(frame.covered_pixels) : -1.0;
     nlohmann::json passes = nlohmann::json::array();
-    for (const auto& p : frame.passes) passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
+    for (const auto& p : frame.passes)
+      passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
     if (a->json) {
       nlohmann::json out{{"file", a->input},
                          {"output", a->output},

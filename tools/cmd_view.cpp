@@ -76,8 +76,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
   view->add_flag("--shadows", opt->shadows, "Start with shadow cones on");
   auto* run = cmd->add_option_group("Run");
   run->add_option("--device", opt->device,
-                  std::string(kDeviceHelp) + ". Frames rendered natively are shown through the Vulkan device that "
-                  "can present (lavapipe on a machine without a GPU)");
+                  std::string(kDeviceHelp) +
+                      ". Frames rendered natively are shown through the Vulkan device that "
+                      "can present (lavapipe on a machine without a GPU)");
   run->add_flag("--validate", opt->validate,
                 "Enable the Khronos validation layer; any message ends the viewer with exit 1");
   run->add_option("--frames", opt->frames, "Render this many frames, then exit 0 (for tests; default 0: until closed)")
@@ -225,8 +226,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
         std::ostringstream title;
         title << "svo view " << opt->path << " | " << render::mode_name(settings.mode)
               << (settings.shadows ? " + shadows" : "") << " | " << (native ? "native " : "GPU ")
-              << (frame.ms >= 0 ? format_ms(frame.ms) + " ms" : "n/a") << ", frame " << format_ms(wall_ms)
-              << " ms | " << frame.width << "x" << frame.height;
+              << (frame.ms >= 0 ? format_ms(frame.ms) + " ms" : "n/a") << ", frame " << format_ms(wall_ms) << " ms | "
+              << frame.width << "x" << frame.height;
         win->set_title(title.str());
         dirty = false;
         shown = true;

@@ -7,19 +7,19 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/shared_math.h"
 #include "svo/render/renderer.h"
 #include "svo/render/vk_compute.h"
-#include "common/shared_math.h"
 #include "trace_address.comp.spv.h"
+#include "trace_setup.h"
 #include "trace_single.comp.spv.h"
 #include "trace_switch.comp.spv.h"
-#include "trace_setup.h"
 
 namespace svo::render {
 
 namespace {
 
-constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y
+constexpr uint32_t kGroup = 8;             // local_size_x = local_size_y
 constexpr uint32_t kRaysPerDispatch = 16;  // raymarch: rays per pixel in one dispatch, at most
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
@@ -63,7 +63,8 @@ class TracePass : public Pass {
                                   " exceeds the device's maxStorageBufferRange of " + mib(limit));
     }
     auto buffer = [&](const ImageDesc& desc) -> vk::Buffer* { return images.write(desc).buffer(); };
-    std::vector<const vk::Buffer*> bound{buffer(colour_image()), settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
+    std::vector<const vk::Buffer*> bound{buffer(colour_image()),
+                                         settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
                                          buffer(steps_image()), buffer(background_image())};
     octree_.bind(p, bound);
     const uint32_t gx = (settings.width + kGroup - 1) / kGroup, gy = (settings.height + kGroup - 1) / kGroup;
@@ -139,11 +140,10 @@ class TracePass : public Pass {
     return *kernel;
   }
 
-
  private:
   vk::Context& context_;
   const OctreeAccess& octree_;
-  vk::Buffer no_gbuffer_;  // bound in the G-buffer's place when the settings do not ask for it
+  vk::Buffer no_gbuffer_;            // bound in the G-buffer's place when the settings do not ask for it
   std::span<const uint32_t> spirv_;  // the kernel of the pools' access
   std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<vk::ComputeKernel>> kernels_;  // by specialisation
 };

@@ -125,9 +125,9 @@ namespace {
 
 // A G-buffer texel as the channels of kGBufferChannels.
 void gbuffer_channels(const GBufferTexel& t, float* out) {
-  const float values[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,   t.normal.y,
+  const float values[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,    t.normal.y,
                           t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
-                          t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,     t.a_s.x,
+                          t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,      t.a_s.x,
                           t.a_s.y,       t.a_s.z,      t.coverage};
   static_assert(std::size(values) == kGBufferChannels.size());
   std::copy(std::begin(values), std::end(values), out);
@@ -157,7 +157,8 @@ void write_gbuffer(const std::string& path, const Frame& frame) {
 }
 
 void write_aov(const std::string& path, Renderer& renderer, const std::string& name) {
-  if (image_format(path) != ImageFormat::Exr) throw ImageError(path + ": images are written as OpenEXR only (use .exr)");
+  if (image_format(path) != ImageFormat::Exr)
+    throw ImageError(path + ": images are written as OpenEXR only (use .exr)");
   FrameImages& images = renderer.images();
   const ImageDesc desc = images.desc(name);
   const uint32_t w = desc.width(images.width()), h = desc.height(images.height());

@@ -58,7 +58,8 @@ class NativeTracePass : public Pass {
                             background[i] = px.background;
                             steps[i] = px.steps;
                             if (!gbuffer.empty()) {
-                              for (uint32_t k = 0; k < n4; ++k) gbuffer[n4 * i + k] = svo::math::svo_gbuffer_pack(px.g, k);
+                              for (uint32_t k = 0; k < n4; ++k)
+                                gbuffer[n4 * i + k] = svo::math::svo_gbuffer_pack(px.g, k);
                             }
                           }
                         }

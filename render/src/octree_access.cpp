@@ -68,7 +68,8 @@ OctreeAccess::OctreeAccess(const octree::Octree& tree, vk::Context& context, uin
   auto slot_addresses = addresses_->as<uint64_t>();
   for (uint64_t s = 0; s < slots; ++s) {
     const uint64_t first = s * bricks_per_slot_;
-    const uint64_t count = std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
+    const uint64_t count =
+        std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
     const size_t bytes = size_t(count * packed_.brick_bytes + 4);
     pools_.emplace_back(context, bytes, address);
     std::memcpy(pools_.back().data(), packed_.bricks.data() + first * packed_.brick_bytes, bytes);

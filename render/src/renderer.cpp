@@ -86,7 +86,8 @@ void FrameImages::begin_frame(uint32_t width, uint32_t height) {
 
 ImageMemory& FrameImages::write(const ImageDesc& desc) {
   if (desc.scale < 1 || desc.levels < 1 || desc.levels > 16) {
-    throw std::invalid_argument("image " + desc.describe() + ": scale and levels must be at least 1, levels at most 16");
+    throw std::invalid_argument("image " + desc.describe() +
+                                ": scale and levels must be at least 1, levels at most 16");
   }
   const std::size_t bytes = std::max<std::size_t>(4, desc.texels(width_, height_) * texel_bytes(desc.format));
   auto it = images_.find(desc.name);
@@ -194,7 +195,8 @@ void Renderer::add_pass(std::unique_ptr<Pass> pass) {
   for (const auto& r : pass->reads()) {
     auto it = written_.find(r.name);
     if (it == written_.end()) {
-      throw std::invalid_argument("pass '" + pass->name() + "' reads image '" + r.name + "' that no earlier pass writes");
+      throw std::invalid_argument("pass '" + pass->name() + "' reads image '" + r.name +
+                                  "' that no earlier pass writes");
     }
     if (!it->second.same_type(r)) {
       throw std::invalid_argument("pass '" + pass->name() + "' reads image " + r.describe() + " but it is written as " +

@@ -2,6 +2,8 @@
 // hosts: the same chains on the native host and on lavapipe agree, the
 // chain refuses reads of images nobody writes and reads of another type, a
 // pass sees this frame's G-buffer, and image sizes follow scale and levels.
+#include "svo/render/pass.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +11,6 @@
 
 #include "../render/test_scenes.h"
 #include "svo/render/image_io.h"
-#include "svo/render/pass.h"
 #include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 
@@ -97,13 +98,14 @@ TEST_F(PassesOnBothHosts, TheSameChainAgreesOnBothHosts) {
   for (size_t i = 0; i < native.colour.size(); ++i) {
     colour_off += glm::length(native.colour[i] - vulkan.colour[i]) > 1e-3f ? 1 : 0;
     const GBufferTexel &a = native.gbuffer[i], &b = vulkan.gbuffer[i];
-    const float d = std::abs(a.depth - b.depth) + glm::length(a.position - b.position) + glm::length(a.normal - b.normal) +
-                    glm::length(a.tangent - b.tangent) + glm::length(a.slope_cov - b.slope_cov) +
-                    glm::length(a.abar - b.abar) + glm::length(a.a_s - b.a_s) + std::abs(a.coverage - b.coverage) +
-                    std::abs(a.sigma_rho2 - b.sigma_rho2);
+    const float d = std::abs(a.depth - b.depth) + glm::length(a.position - b.position) +
+                    glm::length(a.normal - b.normal) + glm::length(a.tangent - b.tangent) +
+                    glm::length(a.slope_cov - b.slope_cov) + glm::length(a.abar - b.abar) + glm::length(a.a_s - b.a_s) +
+                    std::abs(a.coverage - b.coverage) + std::abs(a.sigma_rho2 - b.sigma_rho2);
     gbuffer_off += d > 1e-3f ? 1 : 0;
     for (int k = 0; k < 4; ++k) {
-      display_off += std::abs(int((native.display[i] >> (8 * k)) & 255u) - int((vulkan.display[i] >> (8 * k)) & 255u)) > 1;
+      display_off +=
+          std::abs(int((native.display[i] >> (8 * k)) & 255u) - int((vulkan.display[i] >> (8 * k)) & 255u)) > 1;
     }
   }
   const int pixels = int(native.colour.size());
@@ -178,14 +180,15 @@ TEST_F(PassesOnBothHosts, ChainsThatReadWhatNobodyWritesOrAnotherTypeAreRefused)
       EXPECT_NE(std::string(e.what()).find("'coverage-to-red'"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("'environment'"), std::string::npos) << e.what();
     }
-    for (const ImageDesc& wrong : {ImageDesc{"steps", TexelFormat::Rgba32f}, ImageDesc{"colour", TexelFormat::Rgba32f, 2},
-                                   ImageDesc{"colour", TexelFormat::Rgba32f, 1, 3}}) {
+    for (const ImageDesc& wrong :
+         {ImageDesc{"steps", TexelFormat::Rgba32f}, ImageDesc{"colour", TexelFormat::Rgba32f, 2},
+          ImageDesc{"colour", TexelFormat::Rgba32f, 1, 3}}) {
       try {
         r->add_pass(std::make_unique<Reads>(wrong));
         ADD_FAILURE() << "a read of " << wrong.describe() << " was accepted";
       } catch (const std::invalid_argument& e) {
         const std::string what = e.what();
-        EXPECT_NE(what.find(wrong.describe()), std::string::npos) << what;  // the type asked for
+        EXPECT_NE(what.find(wrong.describe()), std::string::npos) << what;                   // the type asked for
         EXPECT_NE(what.find("written as " + wrong.name + " ("), std::string::npos) << what;  // and the one written
       }
     }
@@ -212,7 +215,8 @@ TEST_F(PassesOnBothHosts, AnAovFileHoldsTheNamedImage) {
     std::sort(expected.begin(), expected.end());
     ASSERT_EQ(names, expected);
     ASSERT_EQ(si.channels, std::vector<std::string>{"steps"});
-    const int depth = gi.channel("depth"), cov = gi.channel("coverage"), ty = gi.channel("T.y"), as = gi.channel("a_s.B");
+    const int depth = gi.channel("depth"), cov = gi.channel("coverage"), ty = gi.channel("T.y"),
+              as = gi.channel("a_s.B");
     for (uint32_t y = 0; y < s.height; ++y) {
       for (uint32_t x = 0; x < s.width; ++x) {
         const GBufferTexel& t = f.gbuffer[y * s.width + x];

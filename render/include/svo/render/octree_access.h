@@ -6,11 +6,10 @@
 // NativeOctreeReader and including the GLSL, on Vulkan by bind().
 #pragma once
 
-#include <glm/vec2.hpp>
-#include <glm/vec4.hpp>
-
 #include <cstdint>
 #include <cstring>
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 #include <memory>
 #include <vector>
 

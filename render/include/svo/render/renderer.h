@@ -6,10 +6,9 @@
 // make_renderer picks the host a command asks for.
 #pragma once
 
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
-
-#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -32,7 +31,7 @@ enum class Mode : uint32_t {
   Mip = 3,          // our geometry, plain averaged colour and normal
   RayMarch = 4,     // supersampling baseline: RenderSettings::spp rays per pixel marching the finest level
 };
-const char* mode_name(Mode mode);                   // "prefiltered", ...
+const char* mode_name(Mode mode);                       // "prefiltered", ...
 std::optional<Mode> parse_mode(std::string_view name);  // nullopt for an unknown name
 
 // A pinhole camera, or a thin lens when aperture > 0.
@@ -40,9 +39,9 @@ struct Camera {
   glm::vec3 eye{0, 0, 3};
   glm::vec3 target{0, 0, 0};
   glm::vec3 up{0, 1, 0};
-  float fov_deg = 40;    // vertical field of view
-  float aperture = 0;    // lens radius, scene units (0: pinhole)
-  float focus = 0;       // focus distance along the view axis, scene units (used when aperture > 0)
+  float fov_deg = 40;  // vertical field of view
+  float aperture = 0;  // lens radius, scene units (0: pinhole)
+  float focus = 0;     // focus distance along the view axis, scene units (used when aperture > 0)
 };
 
 constexpr int kMaxLights = 4;
@@ -65,8 +64,8 @@ struct RenderSettings {
   Mode mode = Mode::Prefiltered;
   bool shadows = false;
   std::vector<Light> lights = std::vector<Light>(1);  // at most kMaxLights; default: one Light{}
-  glm::vec3 ambient{0.08f, 0.08f, 0.1f};  // unshadowed ambient irradiance / pi, times abar
-  glm::vec3 background{0.02f, 0.02f, 0.03f};  // radiance of the bits no element set
+  glm::vec3 ambient{0.08f, 0.08f, 0.1f};              // unshadowed ambient irradiance / pi, times abar
+  glm::vec3 background{0.02f, 0.02f, 0.03f};          // radiance of the bits no element set
   float specular = 0.04f;  // weight of the Beckmann lobe added to the Lambertian term (white)
   // Prefiltered and alpha modes: weight of the normals' spread over each
   // cone's footprint, added to the voxels' slope variance (tracer.glsl,
@@ -92,9 +91,9 @@ struct RenderSettings {
   // Prefiltered mode: the voxel size, in cone radii, of the level shading
   // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
   float shading_voxel = 1.0f;
-  uint32_t spp = 1;  // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
-  bool gbuffer = false;  // trace the G-buffer and fill Frame::gbuffer
-  bool display = false;  // run the display pass and fill Frame::display
+  uint32_t spp = 1;           // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
+  bool gbuffer = false;       // trace the G-buffer and fill Frame::gbuffer
+  bool display = false;       // run the display pass and fill Frame::display
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
 };
 
@@ -104,10 +103,10 @@ struct RenderSettings {
 struct GBufferTexel {
   float depth = 0;  // distance along the view ray, scene units
   glm::vec3 position{0};
-  glm::vec3 normal{0};  // filtered mean normal (not renormalised)
-  float coverage = 0;   // covered fraction of the pixel's footprint
-  glm::vec3 tangent{0};  // unit, perpendicular to the normal: the frame of slope_cov
-  float sigma_rho2 = 0;  // the micro-BRDF's slope variance
+  glm::vec3 normal{0};     // filtered mean normal (not renormalised)
+  float coverage = 0;      // covered fraction of the pixel's footprint
+  glm::vec3 tangent{0};    // unit, perpendicular to the normal: the frame of slope_cov
+  float sigma_rho2 = 0;    // the micro-BRDF's slope variance
   glm::vec3 slope_cov{0};  // (xx, yy, xy) in (tangent, normal x tangent), without sigma_rho2
   glm::vec3 abar{0};
   glm::vec3 a_s{0};
@@ -127,16 +126,16 @@ struct PassTime {
 
 struct Frame {
   uint32_t width = 0, height = 0;
-  std::vector<glm::vec4> colour;  // row-major, top row first; linear RGB radiance, alpha = coverage
+  std::vector<glm::vec4> colour;      // row-major, top row first; linear RGB radiance, alpha = coverage
   std::vector<GBufferTexel> gbuffer;  // empty unless requested
-  std::vector<uint32_t> steps;  // cone elements visited per pixel (shadow cones included)
-  std::vector<uint32_t> display;  // when requested: 8-bit sRGB RGBA per pixel (DisplayPass)
-  std::vector<PassTime> passes;   // each pass's time, in the order they ran
-  double ms = -1;       // the passes' time together (-1 when one is unknown)
-  double gpu_ms = -1;   // the same from GPU timestamps; -1 on the native host or without timestamps
-  double wall_ms = 0;   // host time of render(), uploads of settings and read-back included
-  uint64_t covered_pixels = 0;  // pixels with coverage > 0
-  double steps_per_pixel = 0;   // mean over all pixels
+  std::vector<uint32_t> steps;        // cone elements visited per pixel (shadow cones included)
+  std::vector<uint32_t> display;      // when requested: 8-bit sRGB RGBA per pixel (DisplayPass)
+  std::vector<PassTime> passes;       // each pass's time, in the order they ran
+  double ms = -1;                     // the passes' time together (-1 when one is unknown)
+  double gpu_ms = -1;                 // the same from GPU timestamps; -1 on the native host or without timestamps
+  double wall_ms = 0;                 // host time of render(), uploads of settings and read-back included
+  uint64_t covered_pixels = 0;        // pixels with coverage > 0
+  double steps_per_pixel = 0;         // mean over all pixels
 };
 
 // The frame's time as commands report it: the passes' (GPU timestamps on a
@@ -216,9 +215,9 @@ class GpuRenderer : public Renderer {
   // The same, owning its context.
   GpuRenderer(std::unique_ptr<vk::Context> context, const octree::Octree& tree, const Options& options);
 
-  std::size_t pool_bytes() const;    // device memory held by the octree pools
-  uint32_t pool_buffers() const;     // buffers the bricks are split across
-  const char* pool_access() const;   // "single", "address" or "switch": how the tracer reads them
+  std::size_t pool_bytes() const;   // device memory held by the octree pools
+  uint32_t pool_buffers() const;    // buffers the bricks are split across
+  const char* pool_access() const;  // "single", "address" or "switch": how the tracer reads them
 
  private:
   GpuRenderer(std::unique_ptr<vk::Context> owned, vk::Context* context, const octree::Octree& tree,
