@@ -87,11 +87,10 @@ void add_demo_command(CLI::App& app, int& exit_code) {
                        {"us_per_pixel", frame.covered_pixels > 0 ? nlohmann::json(us) : nlohmann::json(nullptr)},
                        {"steps_per_pixel", frame.steps_per_pixel}});
       if (!a->json) {
-        const char* timed_by = gpu_timed ? "GPU" : renderer.host() == render::Host::Native ? "native" : "wall";
         std::cout << std::setprecision(1) << name << ": " << a->size << "x" << a->size << " in " << ms << " ms "
-                  << timed_by << " (" << frame.wall_ms << " ms wall), " << std::setprecision(3) << us
-                  << " us per covered pixel, " << std::setprecision(1) << frame.steps_per_pixel << " steps/pixel -> "
-                  << path << "\n";
+                  << render::frame_clock(frame, renderer.host()) << " (" << frame.wall_ms << " ms wall), "
+                  << std::setprecision(3) << us << " us per covered pixel, " << std::setprecision(1)
+                  << frame.steps_per_pixel << " steps/pixel -> " << path << "\n";
       }
     }
     if (a->json) {

@@ -268,7 +268,6 @@ void add_render_command(CLI::App& app, int& exit_code) {
 
     const bool gpu_timed = frame.gpu_ms >= 0;
     const double ms = times[times.size() / 2];
-    const char* timed_by = gpu_timed ? "GPU" : renderer->host() == render::Host::Native ? "native" : "wall";
     // Per covered pixel (DESIGN section 9); -1 when nothing is covered.
     const double us_per_pixel = frame.covered_pixels > 0 ? ms * 1000.0 / double(frame.covered_pixels) : -1.0;
     nlohmann::json passes = nlohmann::json::array();
@@ -312,7 +311,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->output << ": " << frame.width << "x"
                 << frame.height << " " << render::mode_name(*mode) << ", view " << view_name << ", " << ms << " ms "
-                << timed_by << " (" << frame.wall_ms << " ms wall), ";
+                << render::frame_clock(frame, renderer->host()) << " (" << frame.wall_ms << " ms wall), ";
       if (us_per_pixel >= 0) {
         std::cout << std::setprecision(3) << us_per_pixel << " us per covered pixel (" << frame.covered_pixels
                   << " covered)";

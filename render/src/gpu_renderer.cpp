@@ -29,25 +29,14 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1)
 class TracePass : public Pass {
  public:
   TracePass(vk::Context& context, const OctreeAccess& octree)
-      : context_(context), octree_(octree), no_gbuffer_(context, 16) {
-    switch (octree.pool_access()) {
-      case PoolAccess::Single:
-        spirv_ = svo_spv_trace_single_comp;
-        break;
-      case PoolAccess::Address:
-        spirv_ = svo_spv_trace_address_comp;
-        break;
-      case PoolAccess::Switch:
-        spirv_ = svo_spv_trace_switch_comp;
-        break;
-    }
-  }
+      : context_(context),
+        octree_(octree),
+        no_gbuffer_(context, 16),
+        spirv_(octree.pick_kernel(svo_spv_trace_single_comp, svo_spv_trace_address_comp, svo_spv_trace_switch_comp)) {}
 
   std::string name() const override { return "trace"; }
   std::vector<ImageDesc> reads() const override { return {}; }
-  std::vector<ImageDesc> writes() const override {
-    return {colour_image(), background_image(), gbuffer_image(), steps_image()};
-  }
+  std::vector<ImageDesc> writes() const override { return trace_images(); }
 
   double run(PassContext& ctx) override {
     const RenderSettings& settings = ctx.settings;
@@ -103,8 +92,7 @@ class TracePass : public Pass {
         background[i] += w * bg[i];
         steps[i] += st[i];
         if (settings.gbuffer) {
-          const glm::vec4* t = &gb[n4 * i];
-          SvoGBuffer part_g = svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]);
+          const SvoGBuffer part_g = gbuffer_at(&gb[n4 * i]);
           g[i] = svo::math::svo_gbuffer_madd(g[i], part_g, w * part_g.coverage);
           covered[i] += w * part_g.coverage;
         }

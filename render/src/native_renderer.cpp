@@ -33,9 +33,7 @@ class NativeTracePass : public Pass {
 
   std::string name() const override { return "trace"; }
   std::vector<ImageDesc> reads() const override { return {}; }
-  std::vector<ImageDesc> writes() const override {
-    return {colour_image(), background_image(), gbuffer_image(), steps_image()};
-  }
+  std::vector<ImageDesc> writes() const override { return trace_images(); }
 
   double run(PassContext& ctx) override {
     auto start = std::chrono::steady_clock::now();

@@ -20,7 +20,7 @@ namespace svo::render {
 static_assert(kGBufferVec4s == svo::math::SVO_GBUFFER_VEC4S);
 
 GBufferTexel unpack_gbuffer(const glm::vec4* t) {
-  const auto g = svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]);
+  const auto g = gbuffer_at(t);
   return {g.depth, g.position, g.normal, g.coverage, g.tangent, g.sigma_rho2, g.slope_cov, g.abar, g.a_s};
 }
 
@@ -76,6 +76,7 @@ ImageDesc colour_image() { return {"colour", TexelFormat::Rgba32f}; }
 ImageDesc background_image() { return {"background", TexelFormat::Rgba32f}; }
 ImageDesc gbuffer_image() { return {"gbuffer", TexelFormat::GBuffer}; }
 ImageDesc steps_image() { return {"steps", TexelFormat::R32u}; }
+std::vector<ImageDesc> trace_images() { return {colour_image(), background_image(), gbuffer_image(), steps_image()}; }
 
 void FrameImages::begin_frame(uint32_t width, uint32_t height) {
   if (width != width_ || height != height_) images_.clear();
@@ -211,6 +212,7 @@ void Renderer::add_pass(std::unique_ptr<Pass> pass) {
     }
   }
   for (const auto& w : pass->writes()) written_[w.name] = w;
+  for (const auto& r : pass->reads()) gbuffer_read_ = gbuffer_read_ || r.name == gbuffer_image().name;
   passes_.push_back(std::move(pass));
 }
 
@@ -230,9 +232,7 @@ std::vector<std::string> Renderer::validation_messages() const {
 Frame Renderer::render(const RenderSettings& requested) {
   auto start = std::chrono::steady_clock::now();
   RenderSettings settings = requested;
-  for (std::size_t i = 1; i < passes_.size(); ++i) {
-    for (const auto& r : passes_[i]->reads()) settings.gbuffer = settings.gbuffer || r.name == "gbuffer";
-  }
+  settings.gbuffer = settings.gbuffer || gbuffer_read_;
   images_.begin_frame(settings.width, settings.height);
   PassContext ctx{host_, images_, settings, context_, *octree_};
   Frame frame;

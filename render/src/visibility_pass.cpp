@@ -32,9 +32,8 @@ double VisibilityPass::run(PassContext& ctx) {
   const uint32_t count = ctx.images.width() * ctx.images.height();
   if (ctx.host == Host::Vulkan) {
     if (!kernel_) {
-      std::span<const uint32_t> spirv = svo_spv_visibility_single_comp;
-      if (octree.pool_access() == PoolAccess::Address) spirv = svo_spv_visibility_address_comp;
-      if (octree.pool_access() == PoolAccess::Switch) spirv = svo_spv_visibility_switch_comp;
+      const auto spirv = octree.pick_kernel(svo_spv_visibility_single_comp, svo_spv_visibility_address_comp,
+                                            svo_spv_visibility_switch_comp);
       kernel_ = std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 2 + octree.binding_count(), 0);
     }
     std::vector<const vk::Buffer*> bound{in.buffer(), out.buffer()};
@@ -46,10 +45,8 @@ double VisibilityPass::run(PassContext& ctx) {
   const auto* g = static_cast<const glm::vec4*>(in.data());
   auto* visible = static_cast<glm::vec4*>(out.data());
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& r) {
-    for (uint32_t i = r.begin(); i != r.end(); ++i) {
-      const glm::vec4* t = g + kGBufferVec4s * i;
-      visible[i] = kernel.svo_visibility_texel(svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]));
-    }
+    for (uint32_t i = r.begin(); i != r.end(); ++i)
+      visible[i] = kernel.svo_visibility_texel(gbuffer_at(g + kGBufferVec4s * i));
   });
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }

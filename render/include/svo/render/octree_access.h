@@ -11,6 +11,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "common/shared_math.h"
@@ -93,6 +94,12 @@ class OctreeAccess {
   // octree_bindings.glsl in binding order (params, nodes, masks, pools).
   void bind(const TraceParams& params, std::vector<const vk::Buffer*>& bound) const;
   PoolAccess pool_access() const { return access_; }
+  // Of a kernel compiled three ways (octree_bindings.glsl), the one that
+  // reads the pools as this octree holds them.
+  std::span<const uint32_t> pick_kernel(std::span<const uint32_t> single, std::span<const uint32_t> address,
+                                        std::span<const uint32_t> switched) const {
+    return access_ == PoolAccess::Single ? single : access_ == PoolAccess::Address ? address : switched;
+  }
   uint32_t binding_count() const;  // the buffers bind() appends
   std::size_t pool_bytes() const { return pool_bytes_; }
   uint32_t pool_buffers() const { return uint32_t(pools_.size()); }

@@ -68,6 +68,8 @@ ImageDesc colour_image();
 ImageDesc background_image();
 ImageDesc gbuffer_image();
 ImageDesc steps_image();
+// All four, as either host's trace pass declares them.
+std::vector<ImageDesc> trace_images();
 
 // Host memory of one image: a plain allocation on the native host, a
 // host-visible device buffer on the Vulkan host (buffer() is then set).

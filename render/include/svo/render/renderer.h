@@ -116,7 +116,11 @@ struct GBufferTexel {
 
 // vec4s of one texel of the "gbuffer" image (SVO_GBUFFER_VEC4S).
 constexpr std::size_t kGBufferVec4s = 6;
-// The texel at `texel` (kGBufferVec4s vec4s), unpacked by gbuffer.glsl.
+// The texel at `texel` (kGBufferVec4s vec4s), unpacked by gbuffer.glsl:
+// as the shared GLSL takes it, and as the hosts' files take it.
+inline svo::math::SvoGBuffer gbuffer_at(const glm::vec4* t) {
+  return svo::math::svo_gbuffer_unpack(t[0], t[1], t[2], t[3], t[4], t[5]);
+}
 GBufferTexel unpack_gbuffer(const glm::vec4* texel);
 
 struct PassTime {
@@ -142,6 +146,10 @@ struct Frame {
 // Vulkan device, wall clock natively), or the wall clock of render() when a
 // pass's time is unknown.
 inline double frame_ms(const Frame& frame) { return frame.ms >= 0 ? frame.ms : frame.wall_ms; }
+// What frame_ms measured: "GPU", "native" or "wall".
+inline const char* frame_clock(const Frame& frame, Host host) {
+  return frame.gpu_ms >= 0 ? "GPU" : frame.ms >= 0 && host == Host::Native ? "native" : "wall";
+}
 
 // A renderer: the cone tracer and the passes added after it, on one host.
 // render() may be called many times; the octree is prepared once.
@@ -192,6 +200,7 @@ class Renderer {
   std::unique_ptr<OctreeAccess> octree_;
   std::vector<std::unique_ptr<Pass>> passes_;
   std::map<std::string, ImageDesc> written_;  // images the chain writes so far
+  bool gbuffer_read_ = false;                 // an added pass reads "gbuffer"
   DisplayPass display_;
   FrameImages images_;
 };
