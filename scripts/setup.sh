@@ -31,6 +31,7 @@ PACKAGES=(
   xvfb xauth xdotool                       # xvfb-run, keys: the viewer's tests without a display
   libgtest-dev libgmock-dev                # tests
   libcgal-demo                             # the Stanford bunny (bunny00.off) of the far-view accuracy test
+  blender-data                             # eight CC0 HDR environment maps (studiolights/world/*.exr)
 )
 
 missing=()

@@ -28,6 +28,7 @@ struct ReferenceArgs {
   std::string output;
   std::string octree;
   ViewOptions view;
+  LightingOptions lighting;
   uint32_t spp = 64;
   uint64_t seed = 1;
   bool json = false;
@@ -69,6 +70,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   add_camera_options(*cmd, a->view);
   add_light_options(*cmd, a->view);
+  add_lighting_options(*cmd, a->lighting);
 
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked before the source is read.
@@ -106,6 +108,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     settings.render.camera = resolve_camera(a->view, camera, tree ? &*tree : nullptr);
     settings.render.shadows = a->view.shadows;
     settings.render.lights = make_lights(a->view, centre);
+    apply_lighting(a->lighting, settings.render);
     settings.spp = a->spp;
     settings.seed = a->seed;
     tree.reset();  // only its view and roughness were needed

@@ -35,7 +35,10 @@ struct RenderArgs {
   std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
   std::string mode = "prefiltered";
-  uint32_t spp = 1;
+  uint32_t spp = 0;  // 0: the default of the mode (1 ray) or of forward shading (16 samples)
+  std::string shading;  // tracer or forward; empty: forward with --env or --material, else tracer
+  LightingOptions lighting;
+  uint32_t seed = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
   bool flat_masks = false;
   bool keep_back_facing = false;
@@ -97,10 +100,19 @@ void add_render_command(CLI::App& app, int& exit_code) {
                   "marching the finest level)")
       ->default_val("prefiltered")
       ->group("Shading");
-  cmd->add_option("--spp", a->spp, "Rays per pixel of --mode raymarch: a square, 1 to 4096")
-      ->default_val(1)
+  cmd->add_option("--spp", a->spp,
+                  "Samples per pixel of --shading forward (default 16), or rays per pixel of --mode raymarch "
+                  "(a square, default 1); 1 to 4096")
       ->check(CLI::Range(1u, 4096u))
       ->group("Shading");
+  cmd->add_option("--shading", a->shading,
+                  "tracer: each cone element shaded by the lights as it is marched (paper Eq. 13); forward: the "
+                  "G-buffer shaded afterwards with --env, --material and --spp samples per pixel (multiple "
+                  "importance sampling). Default: forward with --env or --material, else tracer")
+      ->check(CLI::IsMember({"tracer", "forward"}))
+      ->group("Shading");
+  cmd->add_option("--seed", a->seed, "Seed of the forward pass's sample sequence")->group("Shading");
+  add_lighting_options(*cmd, a->lighting);
   cmd->add_option("--footprint-spread", a->footprint_spread,
                   "Weight in [0, 4] of the normals' spread over each cone's footprint, added to the voxels' slope "
                   "variance (prefiltered and alpha modes); 0: the voxels' statistics alone, as in the paper")
@@ -161,9 +173,16 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
     if (!mode)
       throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
-    const uint32_t root = uint32_t(std::lround(std::sqrt(double(a->spp))));
-    if (root * root != a->spp) throw std::invalid_argument("--spp " + std::to_string(a->spp) + " is not a square");
-    if (a->spp != 1 && *mode != render::Mode::RayMarch) throw std::invalid_argument("--spp needs --mode raymarch");
+    const bool forward = a->shading.empty() ? uses_lighting(a->lighting) : a->shading == "forward";
+    if (forward && *mode != render::Mode::Prefiltered) {
+      throw std::invalid_argument("--shading forward shades the prefiltered G-buffer: it needs --mode prefiltered");
+    }
+    const uint32_t rays = forward || a->spp == 0 ? 1 : a->spp;
+    const uint32_t root = uint32_t(std::lround(std::sqrt(double(rays))));
+    if (root * root != rays) throw std::invalid_argument("--spp " + std::to_string(rays) + " is not a square");
+    if (rays != 1 && *mode != render::Mode::RayMarch) {
+      throw std::invalid_argument("--spp needs --mode raymarch or --shading forward");
+    }
     std::optional<render::Camera> camera = check_view_options(a->view);
     render::image_format(a->output);
     render::check_writable_output(a->output);
@@ -218,7 +237,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.height = a->view.height;
     settings.camera = resolve_camera(a->view, camera, &tree);
     settings.mode = *mode;
-    settings.spp = a->spp;
+    settings.spp = rays;
+    settings.shading.spp = forward ? (a->spp == 0 ? 16 : a->spp) : 1;
+    settings.shading.seed = a->seed;
+    apply_lighting(a->lighting, settings);
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
@@ -237,6 +259,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto setup_start = std::chrono::steady_clock::now();
     std::unique_ptr<render::Renderer> renderer =
         render::make_renderer(tree, {a->cpu ? "native" : a->device, a->validate});
+    if (forward) renderer->add_pass(render::make_pass("forward"));
     for (const std::string& name : a->passes) renderer->add_pass(render::make_pass(name));
     const double setup_ms = elapsed_ms(setup_start);
     {
@@ -279,7 +302,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"width", frame.width},
                          {"height", frame.height},
                          {"mode", render::mode_name(*mode)},
-                         {"spp", a->spp},
+                         {"spp", forward ? settings.shading.spp : rays},
+                         {"shading", forward ? "forward" : "tracer"},
+                         {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
+                         {"material", settings.shading.material ? nlohmann::json::parse(render::material_json(
+                                                                       *settings.shading.material))
+                                                                 : nlohmann::json(nullptr)},
                          {"view", view_name},
                          {"device", renderer->device_name()},
                          {"device_type", renderer->device_type()},

@@ -1,5 +1,7 @@
 #include "view_options.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
@@ -65,6 +67,43 @@ void add_light_options(CLI::App& cmd, ViewOptions& o) {
                      "domain centre, radius default 1% of the distance to it")
       ->allow_extra_args(false)  // one light per --light, so that FILE may follow it
       ->group("Shading");
+}
+
+void add_lighting_options(CLI::App& cmd, LightingOptions& o) {
+  cmd.add_option("--env", o.env,
+                 "Environment map lighting the scene and seen behind it: latitude-longitude, +Y up, linear RGB "
+                 "(EXR or Radiance .hdr; e.g. /usr/share/blender/datafiles/studiolights/world/*.exr)")
+      ->group("Lighting");
+  cmd.add_option("--env-rotate", o.env_rotate, "Turn the environment about +Y by DEG degrees")
+      ->check(CLI::Range(-3600.0f, 3600.0f))
+      ->group("Lighting");
+  cmd.add_option("--env-scale", o.env_scale, "Multiply the environment's radiance by S")
+      ->check(CLI::Range(0.0f, 1.0e6f))
+      ->group("Lighting");
+  cmd.add_option("--material", o.material,
+                 "Material JSON: {\"brdf\": \"lambert|beckmann|ggx|phong|merl\", \"diffuse\": [r,g,b], "
+                 "\"roughness\": a, \"f0\": [r,g,b] or \"ior\": n, \"exponent\": e, \"file\": \"x.binary\"}; "
+                 "the diffuse part is tinted by the voxels' colour (default: Beckmann with --specular)")
+      ->group("Lighting");
+  cmd.add_flag("--env-shadows", o.env_shadows,
+               "Environment samples see visibility cones through the octree (off: no visibility, as Bagher et al.)")
+      ->group("Lighting");
+}
+
+bool uses_lighting(const LightingOptions& o) { return !o.env.empty() || !o.material.empty(); }
+
+void apply_lighting(const LightingOptions& o, render::RenderSettings& settings) {
+  render::ShadingOptions& s = settings.shading;
+  if (!o.env.empty()) {
+    std::string warning;
+    s.environment = std::make_shared<const render::Environment>(render::load_environment(o.env, &warning));
+    if (!warning.empty()) std::fprintf(stderr, "svo: warning: %s\n", warning.c_str());
+    settings.ambient = glm::vec3(0);
+  }
+  s.env_rotate_deg = o.env_rotate;
+  s.env_scale = o.env_scale;
+  s.env_shadows = o.env_shadows;
+  if (!o.material.empty()) s.material = std::make_shared<const render::Material>(render::load_material(o.material));
 }
 
 bool uses_preset(const ViewOptions& o) { return o.camera.empty() && o.camera_file.empty(); }

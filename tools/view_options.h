@@ -28,12 +28,31 @@ struct ViewOptions {
   std::vector<std::string> lights;  // --light texts
 };
 
+// Image-based lighting and materials (DESIGN 10.2), the same words for
+// svo render, svo reference and the others.
+struct LightingOptions {
+  std::string env;       // --env FILE (EXR or Radiance HDR)
+  float env_rotate = 0;  // --env-rotate DEG
+  float env_scale = 1;   // --env-scale S
+  std::string material;  // --material FILE.json
+  bool env_shadows = false;
+};
+
 // --width and --height (group Output).
 void add_size_options(CLI::App& cmd, ViewOptions& o);
 // --view, --camera, --camera-file (mutually exclusive) and --dof (group Camera).
 void add_camera_options(CLI::App& cmd, ViewOptions& o);
 // --shadows and --light (group Shading).
 void add_light_options(CLI::App& cmd, ViewOptions& o);
+
+// --env, --env-rotate, --env-scale, --material, --env-shadows (group Lighting).
+void add_lighting_options(CLI::App& cmd, LightingOptions& o);
+// Whether an environment or a material is asked for.
+bool uses_lighting(const LightingOptions& o);
+// Loads the environment and the material into `shading` (a warning about
+// clamped texels goes to stderr); with an environment the ambient term is 0.
+// @throw std::runtime_error as one line naming the file.
+void apply_lighting(const LightingOptions& o, render::RenderSettings& settings);
 
 // Checks everything that needs neither an octree nor a device: the preset's
 // name, the lights' count and syntax, the depth of field, and reads --camera

@@ -15,6 +15,21 @@
 
 #include "common/shared_math.h"
 #include "svo/render/camera.h"
+#include "svo/render/shading.h"
+
+namespace svo::math {
+
+// The environment and material of shaders/common, as the forward pass reads
+// them, for the reference's own sampling.
+struct ReferenceLighting {
+  SvoShadeParams shade;
+  const float* tables;
+  float svo_table(uint32_t i) const { return tables[i]; }
+#include "common/environment.glsl"
+#include "common/material.glsl"
+};
+
+}  // namespace svo::math
 
 namespace svo::reference {
 
@@ -178,7 +193,7 @@ bool light_visible(const Geometry& geometry, const SurfaceHit& hit, const Lamp& 
 // 0, so abar(v, l) = a; slope variance sigma_rho^2. `shadow[i]`: the point
 // of light i's extent for this sample's shadow ray.
 glm::dvec3 shade(const Geometry& geometry, const Setup& c, const SurfaceHit& hit, glm::dvec3 view,
-                 const glm::dvec2* shadow) {
+                 const glm::dvec2* shadow, svo::math::ReferenceLighting* lit) {
   using namespace svo::math;
   const glm::vec3 n = hit.normal, a = hit.colour;
   const SvoFrame f = svo_tangent_frame(n);
@@ -199,10 +214,48 @@ glm::dvec3 shade(const Geometry& geometry, const Setup& c, const SurfaceHit& hit
     if (!(ndl > 0.0f)) continue;
     if (c.shadows && !light_visible(geometry, hit, lamp, shadow[i])) continue;
     const glm::vec3 ll(glm::dot(lf, f.t), glm::dot(lf, f.b), ndl);
-    const glm::vec3 rho = a / SVO_PI + glm::vec3(c.specular * svo_specular_brdf(vl, ll, c.total_variance));
+    const glm::vec3 rho = lit ? lit->svo_material_brdf(svo_material_of(lit->shade), a, vl, ll)
+                              : a / SVO_PI + glm::vec3(c.specular * svo_specular_brdf(vl, ll, c.total_variance));
     radiance += e * glm::dvec3(rho) * double(ndl);
   }
   return radiance;
+}
+
+double power_heuristic(double a, double b) { return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0.0; }
+
+// One sample of the environment lighting the exact surface point `hit`
+// seen along -view: one direction from the material, one from the
+// environment, combined by the power heuristic; `u`: five uniforms.
+glm::dvec3 shade_environment(const Geometry& geometry, svo::math::ReferenceLighting& lit, bool shadows,
+                             const SurfaceHit& hit, glm::dvec3 view, const double* u) {
+  using namespace svo::math;
+  const SvoMaterial mat = svo_material_of(lit.shade);
+  const glm::vec3 n = hit.normal;
+  const SvoFrame f = svo_tangent_frame(n);
+  const glm::vec3 vw(view);
+  const glm::vec3 v(glm::dot(vw, f.t), glm::dot(vw, f.b), glm::dot(vw, n));
+  const glm::vec3 tint = hit.colour;
+  const glm::dvec3 origin = hit.position + geometry.shadow_offset() * glm::dvec3(hit.normal);
+  auto seen = [&](glm::vec3 l) {
+    return !shadows || !geometry.occluded(origin, glm::dvec3(l), 0.0, std::numeric_limits<double>::infinity());
+  };
+  glm::dvec3 sum(0);
+  const glm::vec4 b = lit.svo_sample_material(mat, tint, v, glm::vec3(u[0], u[1], u[2]));
+  if (b.w > 0) {
+    const glm::vec3 l = b.x * f.t + b.y * f.b + b.z * n;
+    const glm::vec3 fr = lit.svo_material_brdf(mat, tint, v, glm::vec3(b));
+    const double w = power_heuristic(b.w, lit.svo_env_pdf(lit.shade, l));
+    if (fr != glm::vec3(0) && seen(l)) sum += glm::dvec3(fr * lit.svo_env_radiance(lit.shade, l)) * (b.z * w / b.w);
+  }
+  const glm::vec4 e = lit.svo_env_sample(lit.shade, glm::vec2(u[3], u[4]));
+  if (e.w > 0) {
+    const glm::vec3 l(e);
+    const glm::vec3 ll(glm::dot(l, f.t), glm::dot(l, f.b), glm::dot(l, n));
+    const glm::vec3 fr = lit.svo_material_brdf(mat, tint, v, ll);
+    const double w = power_heuristic(e.w, lit.svo_material_pdf(mat, tint, v, ll));
+    if (fr != glm::vec3(0) && seen(l)) sum += glm::dvec3(fr * lit.svo_env_radiance(lit.shade, l)) * (ll.z * w / e.w);
+  }
+  return sum;
 }
 
 }  // namespace
@@ -210,6 +263,15 @@ glm::dvec3 shade(const Geometry& geometry, const Setup& c, const SurfaceHit& hit
 render::Frame render_reference(const Geometry& geometry, const ReferenceSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
   const Setup c = make_setup(geometry, settings);
+  // An environment or a material: shaded with the forward pass's lighting code.
+  const render::ShadingOptions& so = settings.render.shading;
+  const bool lighting = so.environment || so.material;
+  const render::ShadingTables tables =
+      lighting ? render::build_shading_tables(so, render::builtin_material(c.specular, geometry.sigma_rho2()), false)
+               : render::ShadingTables{};
+  // Its functions only read (non-const members: the GLSL is included in the struct).
+  svo::math::ReferenceLighting lit{tables.params, tables.floats.data()};
+  const bool environment = bool(so.environment);
   const uint32_t width = settings.render.width, height = settings.render.height, n = settings.spp;
   const glm::uvec2 shape = grid_shape(n);
   render::Frame frame;
@@ -249,12 +311,17 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
           const std::optional<SurfaceHit> hit =
               geometry.intersect(origin, dir, 0.0, std::numeric_limits<double>::infinity());
           if (!hit) {
-            sum += c.background;
+            sum += environment ? glm::dvec3(lit.svo_env_background(lit.shade, glm::vec3(dir))) : c.background;
             continue;
           }
           ++covered;
           for (size_t l = 0; l < shadow.size() && c.shadows; ++l) shadow_of_sample[l] = shadow[l][i];
-          sum += shade(geometry, c, *hit, -dir, shadow_of_sample.data());
+          sum += shade(geometry, c, *hit, -dir, shadow_of_sample.data(), lighting ? &lit : nullptr);
+          if (environment) {
+            double u[5];
+            for (double& x : u) x = rng.uniform();
+            sum += shade_environment(geometry, lit, so.env_shadows, *hit, -dir, u);
+          }
         }
         frame.colour[index] = glm::vec4(glm::vec3(sum / double(n)), float(double(covered) / double(n)));
       }

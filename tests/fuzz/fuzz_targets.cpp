@@ -13,6 +13,7 @@
 #include "svo/render/camera.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
+#include "svo/render/merl.h"
 #include "svo/voxelizer/mesh.h"
 #include "svo_format.h"
 
@@ -213,7 +214,37 @@ int texture(const uint8_t* data, size_t size) {
   }
 }
 
-std::vector<std::string> target_names() { return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture"}; }
+int merl(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  std::vector<uint8_t> bytes;
+  if (data[0] % 2 == 0) {
+    bytes.assign(data + 1, data + size);
+  } else {
+    bytes.assign(render::kMerlFileBytes, 0);
+    const size_t header = std::min<size_t>(12, size - 1);
+    std::memcpy(bytes.data(), data + 1, header);
+    const uint8_t* pattern = data + 1 + header;
+    const size_t period = size - 1 - header;
+    if (period > 0) {
+      for (size_t i = 12; i < bytes.size(); ++i) bytes[i] = pattern[(i - 12) % period];
+    }
+  }
+  TempFile file(bytes.data(), bytes.size(), ".binary");
+  try {
+    const render::MerlBrdf brdf = render::load_merl(file.path);
+    if (brdf.rgb.size() != 3 * size_t(render::kMerlSamples)) broken("accepted MERL table of the wrong size");
+    for (float v : brdf.rgb) {
+      if (!(v >= 0) || !std::isfinite(v)) broken("accepted MERL value " + std::to_string(v));
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+std::vector<std::string> target_names() {
+  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl"};
+}
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "svo_load") return svo_load(data, size);
@@ -221,6 +252,7 @@ int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "mesh_file") return mesh_file(data, size);
   if (name == "camera") return camera(data, size);
   if (name == "texture") return texture(data, size);
+  if (name == "merl") return merl(data, size);
   throw std::invalid_argument("no fuzz target " + name);
 }
 

@@ -38,6 +38,13 @@ int camera(const uint8_t* data, size_t size);
 // (even: read_texture of meshes, odd: read_image of `svo compare`).
 int texture(const uint8_t* data, size_t size);
 
+// load_merl on the bytes written to a temporary file; the first byte picks
+// how: even, the rest verbatim; odd, a file of the valid size (35 MB) whose
+// first 12 bytes are the next 12 (zero-padded) and whose payload repeats the
+// bytes after them (zeros if none), so that small inputs reach the value
+// checks. An accepted table is checked: 3 x 90 x 90 x 180 finite values >= 0.
+int merl(const uint8_t* data, size_t size);
+
 // The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
 // u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
 // positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
@@ -50,8 +57,9 @@ struct MeshSeed {
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
 
 // Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
-// mesh_arrays, mesh_file, camera, texture), made by the library's own
-// writers. Returns the number of files written.
+// mesh_arrays, mesh_file, camera, texture, merl), made by the library's own
+// writers; seeds named refused-* are inputs the loader must refuse. Returns
+// the number of files written.
 int write_seeds(const std::filesystem::path& dir);
 
 std::vector<std::string> target_names();

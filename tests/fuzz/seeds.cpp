@@ -1,6 +1,8 @@
 // Seed corpora for the fuzz targets, made by the library's own writers.
 #include <OpenImageIO/imageio.h>
 
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -176,6 +178,29 @@ int write_seeds(const fs::path& dir) {
         ++count;
       }
     }
+  }
+  // MERL files: the first byte 1 expands a header and a repeated pattern
+  // to a file of the valid size (fuzz_targets.h), 0 takes the bytes as they are.
+  {
+    fs::path d = target("merl");
+    auto merl_seed = [](uint8_t mode, std::array<int32_t, 3> dims, const std::vector<double>& pattern) {
+      std::vector<uint8_t> seed{mode};
+      for (int32_t v : dims)
+        for (int b = 0; b < 4; ++b) seed.push_back(uint8_t(uint32_t(v) >> (8 * b)));
+      for (double v : pattern) {
+        uint8_t bytes[8];
+        std::memcpy(bytes, &v, 8);
+        seed.insert(seed.end(), bytes, bytes + 8);
+      }
+      return seed;
+    };
+    // Small values, a missing sample (-1) among them.
+    put(d / "tiled", merl_seed(1, {90, 90, 180}, {0.5, 1.0, 2.0, -1.0, 0.25, 3.0, 0.0}));
+    put(d / "tiled_missing", merl_seed(1, {90, 90, 180}, {-1.0}));
+    put(d / "refused-tiled-nan", merl_seed(1, {90, 90, 180}, {0.5, std::nan(""), 1.0}));
+    put(d / "refused-tiled-dims", merl_seed(1, {90, 90, 360}, {0.5}));
+    put(d / "refused-truncated", merl_seed(0, {90, 90, 180}, {0.5, 1.0, 2.0}));
+    count += 5;
   }
   return count;
 }

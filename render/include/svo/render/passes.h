@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "svo/render/pass.h"
+#include "svo/render/shading.h"
 
 namespace svo::render {
 
@@ -26,6 +27,26 @@ class VisibilityPass : public Pass {
 
  private:
   std::unique_ptr<vk::ComputeKernel> kernel_;  // made at the first run on a Vulkan host
+};
+
+// Forward shading (DESIGN 10.2, shaders/common/forward.glsl): every covered
+// pixel shaded with RenderSettings::shading's environment, material and
+// samples per pixel (multiple importance sampling of the BRDF and the
+// environment) plus the lights, over the background or the environment seen
+// through the pixel: reads "gbuffer" and "background", writes "colour" (the
+// frame's colour from then on).
+class ForwardPass : public Pass {
+ public:
+  ForwardPass();
+  ~ForwardPass() override;
+  std::string name() const override { return "forward"; }
+  std::vector<ImageDesc> reads() const override { return {gbuffer_image(), background_image()}; }
+  std::vector<ImageDesc> writes() const override { return {colour_image()}; }
+  double run(PassContext& context) override;
+
+ private:
+  struct Cache;
+  std::unique_ptr<Cache> cache_;  // the shading tables of the last options, and the Vulkan kernel and buffers
 };
 
 // The names make_pass knows, in the order --help lists them.

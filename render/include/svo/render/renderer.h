@@ -19,6 +19,7 @@
 #include "svo/octree/octree.h"
 #include "svo/render/octree_access.h"
 #include "svo/render/pass.h"
+#include "svo/render/shading.h"
 #include "svo/render/vk_context.h"
 
 namespace svo::render {
@@ -95,6 +96,8 @@ struct RenderSettings {
   bool gbuffer = false;       // trace the G-buffer and fill Frame::gbuffer
   bool display = false;       // run the display pass and fill Frame::display
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
+  // The shading passes' environment, material and sampling (ForwardPass).
+  ShadingOptions shading;
 };
 
 // One G-buffer texel (shaders/common/gbuffer.glsl, which says what each

@@ -1,0 +1,105 @@
+// Lighting and materials of the shading passes (DESIGN section 10.2):
+// environment maps, materials (analytic and measured), and the shading
+// tables and parameters the shared GLSL reads (shaders/common/
+// shade_params.glsl, environment.glsl, material.glsl, distribution.glsl).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/shared_math.h"
+
+namespace svo::render {
+
+struct MerlBrdf;
+
+// A latitude-longitude environment map, +Y up, linear RGB.
+struct Environment {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgb;  // width * height * 3, row 0 at +Y
+  std::string source;      // the file, or a description
+};
+
+// Reads an EXR or Radiance HDR map through OpenImageIO. Small negative texels
+// (above -1e-3 of the map's largest value, as DWAB compression leaves) are
+// clamped to 0 with one line in `*warning`.
+// @throw std::runtime_error "environment: PATH: why" (one line): not a
+//        regular file, unreadable, fewer than 3 channels, smaller than 2x1 or
+//        larger than 16384x8192, a NaN or Inf texel, a texel below the
+//        clamping bound, or a map that is black everywhere.
+Environment load_environment(const std::filesystem::path& path, std::string* warning = nullptr);
+
+// A map of one radiance everywhere (the white furnace), width x height texels.
+Environment constant_environment(glm::vec3 radiance, uint32_t width = 16, uint32_t height = 8);
+
+// Checks a map made in memory as load_environment checks a file's.
+// @throw std::runtime_error "environment: SOURCE: why"
+void validate_environment(const Environment& env);
+
+enum class BrdfKind : uint32_t { Lambert = 0, Beckmann = 1, Ggx = 2, Phong = 3, Merl = 4 };
+const char* brdf_name(BrdfKind kind);  // "lambert", ...
+
+// A material (DESIGN 10.2's JSON): a diffuse part, tinted by the voxels'
+// abar, plus one specular lobe.
+struct Material {
+  std::string name = "default";
+  BrdfKind kind = BrdfKind::Beckmann;
+  glm::vec3 diffuse{1.0f};  // "diffuse" (or "colour" for lambert): diffuse albedo, times abar
+  glm::vec3 f0{0.04f};      // "f0" [r, g, b], or from "ior" n: ((n - 1) / (n + 1))^2
+  float roughness = 0.2f;   // "roughness": alpha of Beckmann (alpha^2 = 2 sigma^2) and GGX, in (0, 4]
+  float exponent = 100.0f;  // "exponent": the Phong NDF's, in [0, 1e6]
+  std::filesystem::path file;            // "file": a MERL binary, relative to the JSON's folder
+  std::shared_ptr<const MerlBrdf> merl;  // loaded from `file`
+};
+
+// Parses a material from JSON text; `base` resolves a relative "file".
+// Unknown keys, wrong types, values out of range and a missing "brdf" are
+// one-line errors naming the key.
+// @throw std::runtime_error "material: WHERE: key 'KEY': why"
+Material parse_material(const std::string& json_text, const std::filesystem::path& base,
+                        const std::string& where = "material");
+// Reads FILE.json (at most 1 MiB, a regular file) and parses it.
+Material load_material(const std::filesystem::path& path);
+// The material as JSON (the keys parse_material reads), one line.
+std::string material_json(const Material& material);
+
+// The material of frames without --material: a white diffuse part and the
+// Beckmann lobe of the tracer's built-in shading (f0 = `specular`, slope
+// variance sigma_rho^2: alpha = sqrt(2 sigma_rho^2)).
+Material builtin_material(float specular, float sigma_rho2);
+
+// What a frame's shading passes need besides the G-buffer.
+struct ShadingOptions {
+  std::shared_ptr<const Environment> environment;  // null: none
+  float env_rotate_deg = 0.0f;                     // about +Y
+  float env_scale = 1.0f;                          // radiance multiplier, >= 0
+  std::shared_ptr<const Material> material;        // null: Beckmann from the render settings
+  uint32_t spp = 16;                               // samples per pixel of the forward pass, >= 1
+  uint32_t seed = 1;
+  bool env_shadows = false;  // environment samples see visibility cones through the octree
+};
+
+// The shading tables (the floats svo_table reads) and the parameters.
+struct ShadingTables {
+  std::vector<float> floats;
+  svo::math::SvoShadeParams params{};
+};
+
+// `default_material` is used when options.material is null; light_shadows
+// sets SVO_SHADE_LIGHT_SHADOWS.
+ShadingTables build_shading_tables(const ShadingOptions& options, const Material& default_material,
+                                   bool light_shadows);
+
+// The environment's texels as a piecewise-constant distribution of their
+// luminance times sin(theta), appended to `tables`; returns its offset.
+uint32_t append_environment_distribution(const Environment& env, std::vector<float>& tables);
+// A piecewise-constant 2D distribution of f (nv rows of nu values, >= 0)
+// appended to `tables` in distribution.glsl's layout; returns its offset.
+uint32_t append_distribution(const std::vector<float>& f, uint32_t nu, uint32_t nv, std::vector<float>& tables);
+
+}  // namespace svo::render

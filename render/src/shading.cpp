@@ -1,0 +1,325 @@
+#include "svo/render/shading.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "svo/render/image_io.h"
+#include "svo/render/merl.h"
+
+namespace svo::render {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr uint32_t kMaxEnvWidth = 16384, kMaxEnvHeight = 8192;
+
+std::runtime_error env_error(const std::string& source, const std::string& why) {
+  return std::runtime_error("environment: " + source + ": " + why);
+}
+
+float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+}  // namespace
+
+void validate_environment(const Environment& env) {
+  if (env.width < 2 || env.height < 1 || env.width > kMaxEnvWidth || env.height > kMaxEnvHeight) {
+    throw env_error(env.source, std::to_string(env.width) + "x" + std::to_string(env.height) +
+                                    " texels, outside 2x1 to " + std::to_string(kMaxEnvWidth) + "x" +
+                                    std::to_string(kMaxEnvHeight));
+  }
+  if (env.rgb.size() != size_t(env.width) * env.height * 3) throw env_error(env.source, "texel count mismatch");
+  bool lit = false;
+  for (size_t i = 0; i < env.rgb.size(); ++i) {
+    const float v = env.rgb[i];
+    if (!std::isfinite(v)) {
+      const size_t t = i / 3;
+      throw env_error(env.source, std::string(std::isnan(v) ? "NaN" : "Inf") + " at texel (" +
+                                      std::to_string(t % env.width) + ", " + std::to_string(t / env.width) + ")");
+    }
+    if (v < 0) throw env_error(env.source, "negative radiance " + std::to_string(v));
+    lit = lit || v > 0;
+  }
+  if (!lit) throw env_error(env.source, "the map is black everywhere (nothing to light or sample)");
+}
+
+Environment load_environment(const fs::path& path, std::string* warning) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) throw env_error(name, "no such file");
+  if (!fs::is_regular_file(st)) throw env_error(name, "not a regular file");
+  Image image;
+  try {
+    image = read_image(name);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("environment: ") + e.what());
+  }
+  const size_t nc = image.channels.size();
+  if (nc < 3) throw env_error(name, std::to_string(nc) + " channels, RGB needed");
+  Environment env;
+  env.source = name;
+  env.width = uint32_t(image.width);
+  env.height = uint32_t(image.height);
+  if (env.width < 2 || env.width > kMaxEnvWidth || env.height > kMaxEnvHeight) validate_environment(env);
+  env.rgb.resize(size_t(env.width) * env.height * 3);
+  float peak = 0;
+  for (size_t t = 0; t < size_t(env.width) * env.height; ++t) {
+    for (size_t c = 0; c < 3; ++c) {
+      const float v = image.pixels[t * nc + c];
+      env.rgb[t * 3 + c] = v;
+      if (std::isfinite(v)) peak = std::max(peak, v);
+    }
+  }
+  // DWAB-compressed maps hold small negative values; larger ones are an error.
+  size_t clamped = 0;
+  float lowest = 0;
+  for (float& v : env.rgb) {
+    if (v < 0 && v >= -1e-3f * std::max(peak, 1.0f)) {
+      lowest = std::min(lowest, v);
+      v = 0, ++clamped;
+    }
+  }
+  validate_environment(env);
+  if (clamped > 0 && warning) {
+    std::ostringstream s;
+    s << "environment: " << name << ": " << clamped << " small negative texel values (down to " << lowest
+      << ") clamped to 0";
+    *warning = s.str();
+  }
+  return env;
+}
+
+Environment constant_environment(glm::vec3 radiance, uint32_t width, uint32_t height) {
+  Environment env;
+  env.width = width;
+  env.height = height;
+  env.source = "constant";
+  env.rgb.resize(size_t(width) * height * 3);
+  for (size_t t = 0; t < size_t(width) * height; ++t) {
+    for (int c = 0; c < 3; ++c) env.rgb[t * 3 + c] = radiance[c];
+  }
+  validate_environment(env);
+  return env;
+}
+
+uint32_t append_distribution(const std::vector<float>& f, uint32_t nu, uint32_t nv, std::vector<float>& tables) {
+  const uint32_t offset = uint32_t(tables.size());
+  tables.insert(tables.end(), f.begin(), f.end());
+  std::vector<double> row_sum(nv, 0.0);
+  for (uint32_t v = 0; v < nv; ++v) {
+    double sum = 0;
+    std::vector<double> cdf(nu + 1, 0.0);
+    for (uint32_t u = 0; u < nu; ++u) cdf[u + 1] = sum += double(f[size_t(v) * nu + u]);
+    row_sum[v] = sum;
+    for (uint32_t u = 0; u <= nu; ++u) {
+      // An empty row: uniform, never NaN (and never drawn: no marginal mass).
+      tables.push_back(sum > 0 ? float(cdf[u] / sum) : float(u) / float(nu));
+    }
+    tables.back() = 1.0f;
+  }
+  double total = 0;
+  std::vector<double> marginal(nv + 1, 0.0);
+  for (uint32_t v = 0; v < nv; ++v) marginal[v + 1] = total += row_sum[v];
+  for (uint32_t v = 0; v <= nv; ++v) tables.push_back(total > 0 ? float(marginal[v] / total) : float(v) / float(nv));
+  tables.back() = 1.0f;
+  tables.push_back(float(total / (double(nu) * nv)));  // the mean of f
+  tables.push_back(0.0f);                               // padding (svo_dist2d_floats)
+  return offset;
+}
+
+uint32_t append_environment_distribution(const Environment& env, std::vector<float>& tables) {
+  std::vector<float> f(size_t(env.width) * env.height);
+  for (uint32_t y = 0; y < env.height; ++y) {
+    const float s = float(std::sin(M_PI * (y + 0.5) / env.height));
+    for (uint32_t x = 0; x < env.width; ++x) {
+      const size_t t = size_t(y) * env.width + x;
+      float lum = luminance(&env.rgb[t * 3]);
+      // Colours whose luminance rounds to 0 keep a pdf > 0.
+      if (!(lum > 0)) lum = std::max({env.rgb[t * 3], env.rgb[t * 3 + 1], env.rgb[t * 3 + 2]}) * 1e-3f;
+      f[t] = lum * s;
+    }
+  }
+  return append_distribution(f, env.width, env.height, tables);
+}
+
+const char* brdf_name(BrdfKind kind) {
+  switch (kind) {
+    case BrdfKind::Lambert: return "lambert";
+    case BrdfKind::Beckmann: return "beckmann";
+    case BrdfKind::Ggx: return "ggx";
+    case BrdfKind::Phong: return "phong";
+    case BrdfKind::Merl: return "merl";
+  }
+  return "?";
+}
+
+namespace {
+
+using nlohmann::json;
+
+struct KeyError {
+  std::string where;
+  std::runtime_error operator()(const std::string& key, const std::string& why) const {
+    return std::runtime_error("material: " + where + ": key '" + key + "': " + why);
+  }
+};
+
+float number(const json& j, const std::string& key, float lo, float hi, const KeyError& err) {
+  const json& v = j.at(key);
+  if (!v.is_number()) throw err(key, "not a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d) || d < lo || d > hi) {
+    throw err(key, std::to_string(d) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return float(d);
+}
+
+glm::vec3 colour(const json& j, const std::string& key, float hi, const KeyError& err) {
+  const json& v = j.at(key);
+  if (v.is_number()) {
+    const float c = number(j, key, 0.0f, hi, err);
+    return glm::vec3(c);
+  }
+  if (!v.is_array() || v.size() != 3) throw err(key, "not [r, g, b]");
+  glm::vec3 c;
+  for (int i = 0; i < 3; ++i) {
+    if (!v[i].is_number()) throw err(key, "not [r, g, b] of numbers");
+    const double d = v[i].get<double>();
+    if (!std::isfinite(d) || d < 0 || d > hi) throw err(key, "component " + std::to_string(d) + " outside [0, " + std::to_string(hi) + "]");
+    c[i] = float(d);
+  }
+  return c;
+}
+
+}  // namespace
+
+Material parse_material(const std::string& text, const fs::path& base, const std::string& where) {
+  const KeyError err{where};
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    throw std::runtime_error("material: " + where + ": not JSON: " + what);
+  }
+  if (!j.is_object()) throw std::runtime_error("material: " + where + ": not a JSON object");
+  static const std::vector<std::string> keys = {"name",     "brdf", "colour", "color", "diffuse",
+                                                "roughness", "f0",   "ior",    "exponent", "file"};
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      throw err(key, "unknown (keys: name, brdf, colour, diffuse, roughness, f0, ior, exponent, file)");
+    }
+  }
+  Material m;
+  if (!j.contains("brdf")) throw err("brdf", "missing (lambert, beckmann, ggx, phong or merl)");
+  if (!j["brdf"].is_string()) throw err("brdf", "not a string");
+  const std::string brdf = j["brdf"].get<std::string>();
+  bool known = false;
+  for (BrdfKind k : {BrdfKind::Lambert, BrdfKind::Beckmann, BrdfKind::Ggx, BrdfKind::Phong, BrdfKind::Merl}) {
+    if (brdf == brdf_name(k)) m.kind = k, known = true;
+  }
+  if (!known) throw err("brdf", "'" + brdf + "' is none of lambert, beckmann, ggx, phong, merl");
+  if (j.contains("name")) {
+    if (!j["name"].is_string()) throw err("name", "not a string");
+    m.name = j["name"].get<std::string>();
+  }
+  if (j.contains("color") && j.contains("colour")) throw err("color", "given with 'colour'");
+  const std::string colour_key = j.contains("color") ? "color" : "colour";
+  if (j.contains(colour_key) && j.contains("diffuse")) throw err(colour_key, "given with 'diffuse' (the same thing)");
+  m.diffuse = m.kind == BrdfKind::Lambert ? glm::vec3(1.0f) : glm::vec3(m.kind == BrdfKind::Merl ? 0.0f : 1.0f);
+  if (j.contains(colour_key)) m.diffuse = colour(j, colour_key, 1.0f, err);
+  if (j.contains("diffuse")) m.diffuse = colour(j, "diffuse", 1.0f, err);
+  if (j.contains("roughness")) m.roughness = number(j, "roughness", 1e-3f, 4.0f, err);
+  if (j.contains("f0") && j.contains("ior")) throw err("ior", "given with 'f0'");
+  if (j.contains("f0")) m.f0 = colour(j, "f0", 1.0f, err);
+  if (j.contains("ior")) {
+    const float n = number(j, "ior", 1.0f, 10.0f, err);
+    m.f0 = glm::vec3((n - 1) * (n - 1) / ((n + 1) * (n + 1)));
+  }
+  if (j.contains("exponent")) m.exponent = number(j, "exponent", 0.0f, 1e6f, err);
+  if (j.contains("file")) {
+    if (!j["file"].is_string()) throw err("file", "not a string");
+    m.file = j["file"].get<std::string>();
+    if (m.file.is_relative()) m.file = base / m.file;
+  }
+  if (m.kind == BrdfKind::Merl) {
+    if (m.file.empty()) throw err("file", "missing (brdf 'merl' reads a MERL binary)");
+    m.merl = std::make_shared<const MerlBrdf>(load_merl(m.file));
+  } else if (!m.file.empty()) {
+    throw err("file", "only brdf 'merl' reads a file");
+  }
+  return m;
+}
+
+Material load_material(const fs::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) throw std::runtime_error("material: " + name + ": no such file");
+  if (!fs::is_regular_file(st)) throw std::runtime_error("material: " + name + ": not a regular file");
+  if (fs::file_size(path, ec) > (1u << 20)) throw std::runtime_error("material: " + name + ": larger than 1 MiB");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw std::runtime_error("material: " + name + ": cannot read");
+  return parse_material(text.str(), path.parent_path(), name);
+}
+
+std::string material_json(const Material& m) {
+  json j;
+  j["name"] = m.name;
+  j["brdf"] = brdf_name(m.kind);
+  j["diffuse"] = {m.diffuse.r, m.diffuse.g, m.diffuse.b};
+  if (m.kind == BrdfKind::Beckmann || m.kind == BrdfKind::Ggx) j["roughness"] = m.roughness;
+  if (m.kind != BrdfKind::Lambert && m.kind != BrdfKind::Merl) j["f0"] = {m.f0.r, m.f0.g, m.f0.b};
+  if (m.kind == BrdfKind::Phong) j["exponent"] = m.exponent;
+  if (m.kind == BrdfKind::Merl) j["file"] = m.file.string();
+  return j.dump();
+}
+
+Material builtin_material(float specular, float sigma_rho2) {
+  Material m;
+  m.name = "built-in";
+  m.kind = BrdfKind::Beckmann;
+  m.diffuse = glm::vec3(1.0f);
+  m.f0 = glm::vec3(specular);
+  m.roughness = std::sqrt(std::max(2.0f * sigma_rho2, 1e-6f));
+  return m;
+}
+
+ShadingTables build_shading_tables(const ShadingOptions& o, const Material& default_material, bool light_shadows) {
+  ShadingTables t;
+  auto& p = t.params;
+  if (o.environment) {
+    const Environment& env = *o.environment;
+    p.env = glm::uvec4(env.width, env.height, uint32_t(t.floats.size()), 0);
+    t.floats.insert(t.floats.end(), env.rgb.begin(), env.rgb.end());
+    p.env.w = append_environment_distribution(env, t.floats);
+    p.env_xform = glm::vec4(glm::radians(o.env_rotate_deg), o.env_scale, 0, 0);
+  }
+  const Material& m = o.material ? *o.material : default_material;
+  p.material = glm::uvec4(uint32_t(m.kind), 0, 0, 0);
+  if (m.kind == BrdfKind::Merl) {
+    if (!m.merl) throw std::invalid_argument("material '" + m.name + "': a MERL BRDF without its data");
+    const auto offsets = append_merl_tables(*m.merl, t.floats);
+    p.material.y = offsets[0];
+    p.material.z = offsets[1];
+  }
+  p.diffuse = glm::vec4(m.diffuse, m.roughness);
+  p.specular = glm::vec4(m.f0, m.exponent);
+  p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed,
+                          (o.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
+                              (light_shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
+                          0);
+  if (t.floats.empty()) t.floats.push_back(0.0f);
+  return t;
+}
+
+}  // namespace svo::render

@@ -1,0 +1,185 @@
+// The forward-shading pass's kernel (render::ForwardPass, DESIGN 10.2): every
+// covered pixel of the G-buffer shaded with a fixed number of samples of the
+// environment and the material, combined by multiple importance sampling
+// (power heuristic, one BRDF sample and one environment sample each), plus
+// the lights; the background is the environment seen through the pixel. Host
+// contract: tracer.glsl's (params, the octree, for visibility cones), plus
+// `shade` (SvoShadeParams) and svo_table (distribution.glsl).
+//
+// Pre-filtering carries over: the voxel's slope covariance (the G-buffer's,
+// footprint included) widens the microfacet lobes (variances add: Beckmann
+// alpha^2 + 2 sigma^2, GGX likewise), and for the Phong NDF and measured
+// BRDFs each sample draws its normal from the voxel's Gaussian slope
+// distribution. The diffuse part is the voxel's rough Lambert term with
+// Smith masking and the Eq. 17 colour abar(v, l) per light direction.
+#ifndef SVO_FORWARD_GLSL
+#define SVO_FORWARD_GLSL
+#include "environment.glsl"
+#include "gbuffer.glsl"
+#include "material.glsl"
+#include "sequence.glsl"
+#include "shading.glsl"
+#include "visibility.glsl"
+
+// A G-buffer point as the samples see it.
+struct SvoShadingPoint {
+  vec3 v;         // unit, towards the eye
+  vec3 n;         // unit mean normal
+  vec3 tx;        // principal axes of the voxel slopes
+  vec3 ty;
+  vec2 sn2;       // voxel slope variances along tx, ty
+  vec3 vl;        // v in (tx, ty, n)
+  float lambda_v;
+  vec3 abar;
+  vec3 a_s;
+  float radius;   // the pixel's footprint radius at the point
+  vec3 position;
+};
+
+SVO_FN SvoShadingPoint svo_shading_point(SvoGBuffer g) {
+  SvoShadingPoint p;
+  p.position = g.position;
+  p.v = normalize(vec3(params.eye) - g.position);
+  float nl = length(g.normal);
+  p.n = nl > 0.0f ? g.normal / nl : p.v;
+  vec3 t = g.tangent;
+  vec3 b = cross(p.n, t);
+  vec3 cov = max(g.slope_cov, vec3(0.0f, 0.0f, -1.0e30f));
+  float angle = 0.5f * svo_atan2(2.0f * cov.z, cov.x - cov.y);
+  float ca = cos(angle);
+  float sa = sin(angle);
+  p.tx = ca * t + sa * b;
+  p.ty = ca * b - sa * t;
+  p.sn2 = svo_principal_variances(cov, ca, sa);
+  p.vl = vec3(dot(p.v, p.tx), dot(p.v, p.ty), dot(p.v, p.n));
+  p.lambda_v = svo_smith_lambda_dir(p.vl, p.sn2);
+  p.abar = g.abar;
+  p.a_s = g.a_s;
+  p.radius = params.eye.w * g.depth;
+  return p;
+}
+
+// The specular lobe's frame and material for one sample: the voxel slopes
+// added to the microfacet lobe's variances, or a normal drawn from them.
+struct SvoLobe {
+  vec3 t;
+  vec3 b;
+  vec3 n;
+  SvoMaterial mat;
+};
+
+SVO_FN SvoLobe svo_sample_lobe(SvoShadingPoint p, SvoMaterial mat, vec2 u) {
+  SvoLobe lobe;
+  lobe.mat = mat;
+  lobe.t = p.tx;
+  lobe.b = p.ty;
+  lobe.n = p.n;
+  if (mat.kind == SVO_BRDF_BECKMANN || mat.kind == SVO_BRDF_GGX) {
+    lobe.mat.alpha2 = mat.alpha2 + 2.0f * p.sn2;
+  } else if (mat.kind != SVO_BRDF_LAMBERT && p.sn2.x + p.sn2.y > 0.0f) {
+    // Box-Muller: a slope from the voxel's Gaussian.
+    float r = sqrt(-2.0f * log(max(1.0f - u.x, 1.0e-30f)));
+    vec2 slope = r * vec2(cos(2.0f * SVO_PI * u.y), sin(2.0f * SVO_PI * u.y)) * sqrt(p.sn2);
+    lobe.n = normalize(p.n - slope.x * p.tx - slope.y * p.ty);
+    SvoFrame f = svo_tangent_frame(lobe.n);
+    lobe.t = f.t;
+    lobe.b = f.b;
+  }
+  return lobe;
+}
+
+SVO_FN vec3 svo_to_lobe(SvoLobe lobe, vec3 w) { return vec3(dot(w, lobe.t), dot(w, lobe.b), dot(w, lobe.n)); }
+
+// The BRDF times the cosine for light from l (world, unit).
+SVO_FN vec3 svo_forward_brdf_cos(SvoShadingPoint p, SvoLobe lobe, vec3 l) {
+  vec3 ll = vec3(dot(l, p.tx), dot(l, p.ty), dot(l, p.n));
+  vec3 r = vec3(0.0f);
+  float lambert = svo_rough_lambert(p.vl, ll, p.sn2);
+  if (lambert > 0.0f) {
+    float lambda_l = svo_smith_lambda_dir(ll, p.sn2);
+    vec3 a = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v + lambda_l);
+    r += a * lobe.mat.diffuse * (lambert / SVO_PI) / (1.0f + lambda_l);
+  }
+  if (lobe.mat.kind != SVO_BRDF_LAMBERT) {
+    vec3 ls = svo_to_lobe(lobe, l);
+    r += svo_specular_lobe(lobe.mat, svo_to_lobe(lobe, p.v), ls) * max(ls.z, 0.0f);
+  }
+  return r;
+}
+
+SVO_FN float svo_power_heuristic(float a, float b) {
+  float a2 = a * a;
+  float b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+// Whether the environment (or a light) is seen from p along l.
+SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float spread) {
+  return svo_visibility(p.position, l, dist, p.radius, spread, dot(p.n, l), SVO_MODE_PREFILTERED).visible;
+}
+
+// Radiance leaving the G-buffer point towards the eye.
+SVO_FN vec3 svo_forward_radiance(SvoGBuffer g, uint pixel) {
+  SvoShadingPoint p = svo_shading_point(g);
+  SvoMaterial mat = svo_material_of(shade);
+  uint spp = max(shade.sampling.x, 1u);
+  uint seed = shade.sampling.y;
+  bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
+  bool light_shadows = (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u;
+  vec3 sum = vec3(0.0f);
+  for (uint i = 0u; i < spp; ++i) {
+    SvoLobe lobe = svo_sample_lobe(p, mat, svo_sample_2d(pixel, seed, i, 0u));
+    vec3 vs = svo_to_lobe(lobe, p.v);
+    for (uint k = 0u; k < params.tree.w; ++k) {
+      SvoLightSample light = svo_light_at(k, p.position);
+      vec3 f = svo_forward_brdf_cos(p, lobe, light.l);
+      if (f.x + f.y + f.z > 0.0f && light_shadows) f *= svo_forward_visible(p, light.l, light.dist, light.spread);
+      sum += light.e * f;
+    }
+    if (shade.env.y == 0u) continue;
+    // One sample of the material's lobes.
+    vec4 b = svo_sample_material(lobe.mat, p.abar, vs,
+                                 vec3(svo_sample_2d(pixel, seed, i, 2u), svo_sample_1d(pixel, seed, i, 4u)));
+    if (b.w > 0.0f) {
+      vec3 l = b.x * lobe.t + b.y * lobe.b + b.z * lobe.n;
+      vec3 f = svo_forward_brdf_cos(p, lobe, l);
+      if (f.x + f.y + f.z > 0.0f) {
+        float w = svo_power_heuristic(b.w, svo_env_pdf(shade, l));
+        vec3 c = f * svo_env_radiance(shade, l) * (w / b.w);
+        if (env_shadows && c.x + c.y + c.z > 0.0f) c *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        sum += c;
+      }
+    }
+    // One sample of the environment.
+    vec4 e = svo_env_sample(shade, svo_sample_2d(pixel, seed, i, 5u));
+    if (e.w > 0.0f) {
+      vec3 l = vec3(e);
+      vec3 f = svo_forward_brdf_cos(p, lobe, l);
+      if (f.x + f.y + f.z > 0.0f) {
+        float pb = svo_material_pdf(lobe.mat, p.abar, vs, svo_to_lobe(lobe, l));
+        vec3 c = f * svo_env_radiance(shade, l) * (svo_power_heuristic(e.w, pb) / e.w);
+        if (env_shadows && c.x + c.y + c.z > 0.0f) c *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        sum += c;
+      }
+    }
+  }
+  vec3 a_view = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v);
+  return vec3(params.ambient) * a_view + sum / float(spp);
+}
+
+// The pixel: the surface's share plus the background's (`background`: the
+// trace pass's share, rgb, and 1 - coverage), with the environment seen
+// through the pixel centre in place of the constant background.
+SVO_FN vec4 svo_forward_texel(SvoGBuffer g, vec4 background, uint pixel) {
+  vec3 back = vec3(background);
+  if (shade.env.y != 0u) {
+    vec2 at = vec2(float(pixel % params.image.x) + 0.5f, float(pixel / params.image.x) + 0.5f);
+    vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
+    vec3 dir = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+    back = background.w * svo_env_background(shade, dir);
+  }
+  if (!(g.coverage > 0.0f)) return vec4(back, 0.0f);
+  return vec4(g.coverage * svo_forward_radiance(g, pixel) + back, g.coverage);
+}
+
+#endif

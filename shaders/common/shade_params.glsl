@@ -1,0 +1,53 @@
+// The parameters of the shading passes (environment, material, sampling),
+// laid out identically in C++ and in the shaders' std430 block: vec4 and
+// uvec4 members only. The environment's texels, its sampling distribution and
+// a measured BRDF's tables live in the shading tables (distribution.glsl's
+// host accessor svo_table) at the offsets given here.
+#ifndef SVO_SHADE_PARAMS_GLSL
+#define SVO_SHADE_PARAMS_GLSL
+#include "prelude.glsl"
+
+// Material kinds (render::BrdfKind).
+SVO_CONST uint SVO_BRDF_LAMBERT = 0u;
+SVO_CONST uint SVO_BRDF_BECKMANN = 1u;
+SVO_CONST uint SVO_BRDF_GGX = 2u;
+SVO_CONST uint SVO_BRDF_PHONG = 3u;
+SVO_CONST uint SVO_BRDF_MERL = 4u;
+
+// Sampling flags (SvoShadeParams::sampling.z).
+SVO_CONST uint SVO_SHADE_ENV_SHADOWS = 1u;  // environment samples see visibility cones through the octree
+SVO_CONST uint SVO_SHADE_LIGHT_SHADOWS = 2u;  // so do the lights
+
+struct SvoShadeParams {
+  uvec4 env;        // x: width, y: height (0: no environment), z: table offset of the rgb texels, w: of the distribution
+  vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, zw: unused
+  uvec4 material;   // x: kind (SVO_BRDF_*), y: table offset of a measured BRDF's values, z: of its sampling tables
+  vec4 diffuse;     // rgb: diffuse albedo, tinted by the voxels' abar; w: roughness alpha (Beckmann, GGX)
+  vec4 specular;    // rgb: Fresnel reflectance at normal incidence f0; w: Phong exponent
+  uvec4 sampling;   // x: samples per pixel, y: seed, z: flags (SVO_SHADE_*), w: unused
+};
+
+// A material as the shading kernels read it (material.glsl).
+struct SvoMaterial {
+  uint kind;        // SVO_BRDF_*
+  vec3 diffuse;     // diffuse albedo (times abar where a voxel shades)
+  vec3 f0;          // Fresnel reflectance at normal incidence
+  vec2 alpha2;      // squared roughness per axis of the frame (Beckmann: 2 sigma^2; GGX: alpha^2)
+  float exponent;   // Phong NDF exponent
+  uint merl;        // table offset of a measured BRDF's values
+  uint merl_sampling;  // and of its sampling tables
+};
+
+SVO_FN SvoMaterial svo_material_of(SvoShadeParams sp) {
+  SvoMaterial m;
+  m.kind = sp.material.x;
+  m.diffuse = vec3(sp.diffuse);
+  m.f0 = vec3(sp.specular);
+  m.alpha2 = vec2(sp.diffuse.w * sp.diffuse.w);
+  m.exponent = sp.specular.w;
+  m.merl = sp.material.y;
+  m.merl_sampling = sp.material.z;
+  return m;
+}
+
+#endif
