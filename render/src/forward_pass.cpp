@@ -74,7 +74,7 @@ double ForwardPass::run(PassContext& ctx) {
     if (!c.kernel) {
       const auto spirv =
           octree.pick_kernel(svo_spv_forward_single_comp, svo_spv_forward_address_comp, svo_spv_forward_switch_comp);
-      c.kernel = std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 5 + octree.binding_count(), 0);
+      c.kernel = std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 5 + octree.binding_count(), 2 * sizeof(uint32_t));
       c.shade = std::make_unique<vk::Buffer>(*ctx.vulkan, sizeof(svo::math::SvoShadeParams));
     }
     if (!c.floats) {
@@ -85,7 +85,18 @@ double ForwardPass::run(PassContext& ctx) {
     std::vector<const vk::Buffer*> bound{gbuffer.buffer(), background.buffer(), out.buffer(), c.shade.get(),
                                          c.floats.get()};
     octree.bind(params, bound);
-    return c.kernel->dispatch(bound, nullptr, (count + 63) / 64);
+    // Dispatches of a few samples each, so that no invocation's loops pass
+    // llvmpipe's limit of 65535 iterations together (forward.glsl); visibility
+    // cones march hundreds of steps per sample.
+    const uint32_t spp = t.params.sampling.x;
+    const uint32_t chunk = options.env_shadows || ctx.settings.shadows ? 8 : 64;
+    double ms = 0;
+    for (uint32_t first = 0; first < spp; first += chunk) {
+      const uint32_t push[2] = {first, std::min(chunk, spp - first)};
+      const double t_ms = c.kernel->dispatch(bound, push, (count + 63) / 64);
+      ms = t_ms < 0 || ms < 0 ? -1 : ms + t_ms;
+    }
+    return ms;
   }
   auto start = std::chrono::steady_clock::now();
   svo::math::NativeForward kernel{octree.native(params), t.params, t.floats.data()};
@@ -94,7 +105,8 @@ double ForwardPass::run(PassContext& ctx) {
   auto* colour = static_cast<glm::vec4*>(out.data());
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& r) {
     for (uint32_t i = r.begin(); i != r.end(); ++i)
-      colour[i] = kernel.svo_forward_texel(gbuffer_at(g + kGBufferVec4s * i), back[i], i);
+      colour[i] = kernel.svo_forward_texel(gbuffer_at(g + kGBufferVec4s * i), back[i], i, 0, t.params.sampling.x,
+                                           glm::vec4(0));
   });
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }

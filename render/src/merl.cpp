@@ -52,12 +52,18 @@ std::string kind_of(const struct stat& st) {
 
 std::string kind_of(fs::file_type type) {
   switch (type) {
-    case fs::file_type::directory: return "a directory";
-    case fs::file_type::fifo: return "a FIFO";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::socket: return "a socket";
-    default: return "not a regular file";
+    case fs::file_type::directory:
+      return "a directory";
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
   }
 }
 
@@ -120,7 +126,8 @@ MerlBrdf load_merl(const fs::path& path) {
   const fs::file_status status = fs::status(path, ec);
   if (status.type() == fs::file_type::not_found) fail(path, "no such file");
   if (ec) fail(path, "cannot inspect: " + ec.message());
-  if (status.type() != fs::file_type::regular) fail(path, "is " + kind_of(status.type()) + ", expected a MERL .binary file");
+  if (status.type() != fs::file_type::regular)
+    fail(path, "is " + kind_of(status.type()) + ", expected a MERL .binary file");
   Fd file{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
   if (file.fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno));
   // And again on what was opened (the path may have changed in between).
@@ -131,38 +138,51 @@ MerlBrdf load_merl(const fs::path& path) {
     fail(path, std::to_string(st.st_size) + " bytes, expected " + std::to_string(kMerlFileBytes) +
                    " (a 12-byte header and 3 x 90 x 90 x 180 doubles)");
   }
-  std::vector<unsigned char> bytes(kMerlFileBytes);
-  size_t got = 0;
-  while (got < bytes.size()) {
-    ssize_t n = ::read(file.fd, bytes.data() + got, bytes.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) fail(path, std::string("cannot read: ") + std::strerror(errno));
-    if (n == 0) fail(path, "ends at byte " + std::to_string(got) + ", expected " + std::to_string(kMerlFileBytes));
-    got += size_t(n);
-  }
-  auto u32 = [&](size_t at) {
-    return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |
-           uint32_t(bytes[at + 3]) << 24;
+  // Reads exactly n bytes at `to` (the size was checked: a short read means
+  // the file changed under us).
+  uint64_t got = 0;
+  auto read_exactly = [&](unsigned char* to, size_t n) {
+    for (size_t done = 0; done < n;) {
+      const ssize_t r = ::read(file.fd, to + done, n - done);
+      if (r < 0 && errno == EINTR) continue;
+      if (r < 0) fail(path, std::string("cannot read: ") + std::strerror(errno));
+      if (r == 0) fail(path, "ends at byte " + std::to_string(got) + ", expected " + std::to_string(kMerlFileBytes));
+      done += size_t(r);
+      got += uint64_t(r);
+    }
   };
-  const int32_t dims[3] = {int32_t(u32(0)), int32_t(u32(4)), int32_t(u32(8))};
+  unsigned char header[12];
+  read_exactly(header, sizeof header);
+  auto i32 = [&](size_t at) {
+    return int32_t(uint32_t(header[at]) | uint32_t(header[at + 1]) << 8 | uint32_t(header[at + 2]) << 16 |
+                   uint32_t(header[at + 3]) << 24);
+  };
+  const int32_t dims[3] = {i32(0), i32(4), i32(8)};
   if (dims[0] != int32_t(kMerlThetaH) || dims[1] != int32_t(kMerlThetaD) || dims[2] != int32_t(kMerlPhiD)) {
     fail(path, "dimensions " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
                    std::to_string(dims[2]) + ", expected 90 x 90 x 180");
   }
   MerlBrdf brdf;
   brdf.rgb.resize(3 * size_t(kMerlSamples));
+  constexpr uint32_t kChunk = 8100;  // samples per read (divides kMerlSamples)
+  std::vector<unsigned char> chunk(size_t(kChunk) * 8);
   for (uint32_t c = 0; c < 3; ++c) {
-    const unsigned char* block = bytes.data() + 12 + size_t(c) * 8 * kMerlSamples;
-    for (uint32_t k = 0; k < kMerlSamples; ++k) {
-      uint64_t bits = 0;
-      for (int b = 7; b >= 0; --b) bits = bits << 8 | block[size_t(k) * 8 + size_t(b)];
-      const double v = std::bit_cast<double>(bits);
-      if (!std::isfinite(v)) {
-        fail(path, std::string(kChannel[c]) + " " + sample_name(k) + " is " + (std::isnan(v) ? "NaN" : "infinite"));
+    for (uint32_t k0 = 0; k0 < kMerlSamples; k0 += kChunk) {
+      read_exactly(chunk.data(), chunk.size());
+      for (uint32_t j = 0; j < kChunk; ++j) {
+        const uint32_t k = k0 + j;
+        uint64_t bits;
+        std::memcpy(&bits, chunk.data() + size_t(j) * 8, 8);
+        if constexpr (std::endian::native == std::endian::big) bits = __builtin_bswap64(bits);
+        const double v = std::bit_cast<double>(bits);
+        if (!std::isfinite(v)) {
+          fail(path, std::string(kChannel[c]) + " " + sample_name(k) + " is " + (std::isnan(v) ? "NaN" : "infinite"));
+        }
+        const float f = v > 0 ? float(v * kMerlScale[c]) : 0.0f;
+        if (!std::isfinite(f))
+          fail(path, std::string(kChannel[c]) + " " + sample_name(k) + " is too large for a float");
+        brdf.rgb[3 * size_t(k) + c] = f;
       }
-      const float f = v > 0 ? float(v * kMerlScale[c]) : 0.0f;
-      if (!std::isfinite(f)) fail(path, std::string(kChannel[c]) + " " + sample_name(k) + " is too large for a float");
-      brdf.rgb[3 * size_t(k) + c] = f;
     }
   }
   return brdf;
@@ -180,8 +200,9 @@ void write_merl(const fs::path& path, const MerlBrdf& brdf) {
   for (uint32_t c = 0; c < 3; ++c) {
     unsigned char* block = bytes.data() + 12 + size_t(c) * 8 * kMerlSamples;
     for (uint32_t k = 0; k < kMerlSamples; ++k) {
-      const uint64_t bits = std::bit_cast<uint64_t>(double(brdf.rgb[3 * size_t(k) + c]) / kMerlScale[c]);
-      for (int b = 0; b < 8; ++b) block[size_t(k) * 8 + size_t(b)] = uint8_t(bits >> (8 * b));
+      uint64_t bits = std::bit_cast<uint64_t>(double(brdf.rgb[3 * size_t(k) + c]) / kMerlScale[c]);
+      if constexpr (std::endian::native == std::endian::big) bits = __builtin_bswap64(bits);
+      std::memcpy(block + size_t(k) * 8, &bits, 8);
     }
   }
   try {
@@ -214,20 +235,21 @@ std::array<glm::dvec3, 2> merl_sample_directions(uint32_t k) {
 MerlBrdf tabulate_merl(const std::function<glm::dvec3(glm::dvec3 wi, glm::dvec3 wo)>& brdf) {
   MerlBrdf out;
   out.rgb.assign(3 * size_t(kMerlSamples), 0.0f);
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, kMerlSamples, kMerlPhiD), [&](const tbb::blocked_range<uint32_t>& r) {
-    for (uint32_t k = r.begin(); k != r.end(); ++k) {
-      const auto [wi, wo] = merl_sample_directions(k);
-      if (!(wi.z > 0) || !(wo.z > 0)) continue;
-      const glm::dvec3 f = brdf(wi, wo);
-      for (int c = 0; c < 3; ++c) {
-        if (!(f[c] >= 0) || !std::isfinite(f[c])) {
-          throw std::invalid_argument("merl: tabulate: the BRDF is " + std::to_string(f[c]) + " in channel " +
-                                      kChannel[c] + " at " + sample_name(k));
-        }
-        out.rgb[3 * size_t(k) + size_t(c)] = float(f[c]);
-      }
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, kMerlSamples, kMerlPhiD),
+                    [&](const tbb::blocked_range<uint32_t>& r) {
+                      for (uint32_t k = r.begin(); k != r.end(); ++k) {
+                        const auto [wi, wo] = merl_sample_directions(k);
+                        if (!(wi.z > 0) || !(wo.z > 0)) continue;
+                        const glm::dvec3 f = brdf(wi, wo);
+                        for (int c = 0; c < 3; ++c) {
+                          if (!(f[c] >= 0) || !std::isfinite(f[c])) {
+                            throw std::invalid_argument("merl: tabulate: the BRDF is " + std::to_string(f[c]) +
+                                                        " in channel " + kChannel[c] + " at " + sample_name(k));
+                          }
+                          out.rgb[3 * size_t(k) + size_t(c)] = float(f[c]);
+                        }
+                      }
+                    });
   return out;
 }
 
@@ -242,8 +264,8 @@ std::array<uint32_t, 2> append_merl_tables(const MerlBrdf& brdf, std::vector<flo
   }
   for (size_t i = 0; i < brdf.rgb.size(); ++i) {
     if (!(brdf.rgb[i] >= 0) || !std::isfinite(brdf.rgb[i])) {
-      throw std::invalid_argument("merl: tables: " + std::string(kChannel[i % 3]) + " " +
-                                  sample_name(uint32_t(i / 3)) + " is " + std::to_string(brdf.rgb[i]));
+      throw std::invalid_argument("merl: tables: " + std::string(kChannel[i % 3]) + " " + sample_name(uint32_t(i / 3)) +
+                                  " is " + std::to_string(brdf.rgb[i]));
     }
   }
   if (tables.size() + brdf.rgb.size() + merl_sampling_floats() > std::numeric_limits<uint32_t>::max()) {

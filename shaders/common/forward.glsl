@@ -118,8 +118,9 @@ SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float sp
   return svo_visibility(p.position, l, dist, p.radius, spread, dot(p.n, l), SVO_MODE_PREFILTERED).visible;
 }
 
-// Radiance leaving the G-buffer point towards the eye.
-SVO_FN vec3 svo_forward_radiance(SvoGBuffer g, uint pixel) {
+// The share of samples [first, first + count) of the radiance leaving the
+// G-buffer point towards the eye: their sum over shade.sampling.x samples.
+SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
   SvoShadingPoint p = svo_shading_point(g);
   SvoMaterial mat = svo_material_of(shade);
   uint spp = max(shade.sampling.x, 1u);
@@ -127,7 +128,7 @@ SVO_FN vec3 svo_forward_radiance(SvoGBuffer g, uint pixel) {
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
   bool light_shadows = (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u;
   vec3 sum = vec3(0.0f);
-  for (uint i = 0u; i < spp; ++i) {
+  for (uint i = first; i < min(first + count, spp); ++i) {
     SvoLobe lobe = svo_sample_lobe(p, mat, svo_sample_2d(pixel, seed, i, 0u));
     vec3 vs = svo_to_lobe(lobe, p.v);
     for (uint k = 0u; k < params.tree.w; ++k) {
@@ -163,23 +164,36 @@ SVO_FN vec3 svo_forward_radiance(SvoGBuffer g, uint pixel) {
       }
     }
   }
-  vec3 a_view = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v);
-  return vec3(params.ambient) * a_view + sum / float(spp);
+  return sum / float(spp);
 }
 
-// The pixel: the surface's share plus the background's (`background`: the
-// trace pass's share, rgb, and 1 - coverage), with the environment seen
-// through the pixel centre in place of the constant background.
-SVO_FN vec4 svo_forward_texel(SvoGBuffer g, vec4 background, uint pixel) {
-  vec3 back = vec3(background);
-  if (shade.env.y != 0u) {
-    vec2 at = vec2(float(pixel % params.image.x) + 0.5f, float(pixel / params.image.x) + 0.5f);
-    vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
-    vec3 dir = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
-    back = background.w * svo_env_background(shade, dir);
+// The pixel from samples [first, first + count) of shade.sampling.x: the
+// surface's share plus the background's (`background`: the trace pass's
+// share, rgb, and 1 - coverage), with the environment seen through the
+// pixel centre in place of the constant background, plus the ambient term;
+// `previous`, what the earlier samples gave, when first > 0. A host may run
+// the samples in one call or in several (lavapipe stops every loop of an
+// invocation once their iterations together pass 65535: llvmpipe's loop
+// limiter, LP_MAX_TGSI_LOOP_ITERATIONS).
+SVO_FN vec4 svo_forward_texel(SvoGBuffer g, vec4 background, uint pixel, uint first, uint count, vec4 previous) {
+  vec4 sum = previous;
+  if (first == 0u) {
+    vec3 back = vec3(background);
+    if (shade.env.y != 0u) {
+      vec2 at = vec2(float(pixel % params.image.x) + 0.5f, float(pixel / params.image.x) + 0.5f);
+      vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
+      vec3 dir = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+      back = background.w * svo_env_background(shade, dir);
+    }
+    sum = vec4(back, 0.0f);
+    if (g.coverage > 0.0f) {
+      SvoShadingPoint p = svo_shading_point(g);
+      vec3 a_view = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v);
+      sum += g.coverage * vec4(vec3(params.ambient) * a_view, 1.0f);
+    }
   }
-  if (!(g.coverage > 0.0f)) return vec4(back, 0.0f);
-  return vec4(g.coverage * svo_forward_radiance(g, pixel) + back, g.coverage);
+  if (!(g.coverage > 0.0f)) return sum;
+  return sum + vec4(g.coverage * svo_forward_samples(g, pixel, first, count), 0.0f);
 }
 
 #endif

@@ -45,7 +45,7 @@ struct SvoMerlAngles {
 SVO_FN SvoMerlAngles svo_merl_angles(vec3 wi, vec3 wo) {
   vec3 i = normalize(wi);
   vec3 h = normalize(i + normalize(wo));
-  float r = length(vec2(h.x, h.y));  // sin(theta_h); cos(theta_h) = h.z
+  float r = length(vec2(h.x, h.y));      // sin(theta_h); cos(theta_h) = h.z
   float cp = r > 0.0f ? h.x / r : 1.0f;  // cos(phi_h) (phi_h = atan2(0, 0) = 0 at the pole)
   float sp = r > 0.0f ? h.y / r : 0.0f;
   float tx = i.x * cp + i.y * sp;

@@ -36,8 +36,17 @@ SVO_FN float svo_radical_inverse(uint dim, uint i) {
   float r = 0.0f;
   uint n = i;
   while (n > 0u) {
-    r += float(n % base) * f;
-    n /= base;
+    // n / base without an integer division (lavapipe's division by these
+    // constants went wrong past about 870 samples): a float quotient,
+    // corrected by one either way.
+    uint q = uint(float(n) * inv);
+    if (q * base > n) {
+      q -= 1u;
+    } else if ((q + 1u) * base <= n) {
+      q += 1u;
+    }
+    r += float(n - q * base) * f;
+    n = q;
     f *= inv;
   }
   return min(r, 0.99999994f);

@@ -5,7 +5,9 @@ layout(local_size_x = 64) in;
 
 layout(std430, set = 0, binding = 0) readonly restrict buffer GBufferIn { vec4 gbuffer_in[]; };
 layout(std430, set = 0, binding = 1) readonly restrict buffer BackgroundIn { vec4 background_in[]; };
-layout(std430, set = 0, binding = 2) writeonly restrict buffer ColourOut { vec4 colour_out[]; };
+layout(std430, set = 0, binding = 2) restrict buffer ColourOut { vec4 colour_out[]; };
+// Samples [first, first + count) of this dispatch (ForwardPass::run).
+layout(push_constant) uniform Push { uint first; uint count; } push;
 #define SVO_OCTREE_BINDING 5
 #include "octree_bindings.glsl"
 #include "common/shade_params.glsl"
@@ -20,5 +22,5 @@ void main() {
   uint k = SVO_GBUFFER_VEC4S * i;
   SvoGBuffer g = svo_gbuffer_unpack(gbuffer_in[k], gbuffer_in[k + 1u], gbuffer_in[k + 2u], gbuffer_in[k + 3u],
                                     gbuffer_in[k + 4u], gbuffer_in[k + 5u]);
-  colour_out[i] = svo_forward_texel(g, background_in[i], i);
+  colour_out[i] = svo_forward_texel(g, background_in[i], i, push.first, push.count, colour_out[i]);
 }

@@ -216,20 +216,29 @@ int texture(const uint8_t* data, size_t size) {
 
 int merl(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  std::vector<uint8_t> bytes;
-  if (data[0] % 2 == 0) {
-    bytes.assign(data + 1, data + size);
-  } else {
-    bytes.assign(render::kMerlFileBytes, 0);
-    const size_t header = std::min<size_t>(12, size - 1);
-    std::memcpy(bytes.data(), data + 1, header);
-    const uint8_t* pattern = data + 1 + header;
-    const size_t period = size - 1 - header;
-    if (period > 0) {
-      for (size_t i = 12; i < bytes.size(); ++i) bytes[i] = pattern[(i - 12) % period];
+  const bool tiled = data[0] % 2 == 1;
+  uint8_t header[12] = {};
+  const size_t head = tiled ? std::min<size_t>(12, size - 1) : size - 1;
+  if (tiled) std::memcpy(header, data + 1, head);
+  TempFile file(tiled ? header : data + 1, tiled ? 12 : size - 1, ".binary");
+  if (tiled) {
+    // The payload streamed in chunks of whole periods (zeros without a pattern).
+    const uint8_t* pattern = data + 1 + head;
+    const size_t period = size - 1 - head;
+    std::vector<uint8_t> chunk;
+    if (period == 0) {
+      chunk.assign(1 << 20, 0);
+    } else {
+      while (chunk.size() < (1 << 20)) chunk.insert(chunk.end(), pattern, pattern + period);
     }
+    std::ofstream out(file.path, std::ios::binary | std::ios::app);
+    for (uint64_t left = render::kMerlFileBytes - 12; left > 0;) {
+      const size_t n = size_t(std::min<uint64_t>(left, chunk.size()));
+      out.write(reinterpret_cast<const char*>(chunk.data()), std::streamsize(n));
+      left -= n;
+    }
+    if (!out) broken("cannot write " + file.path);
   }
-  TempFile file(bytes.data(), bytes.size(), ".binary");
   try {
     const render::MerlBrdf brdf = render::load_merl(file.path);
     if (brdf.rgb.size() != 3 * size_t(render::kMerlSamples)) broken("accepted MERL table of the wrong size");

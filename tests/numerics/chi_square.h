@@ -87,23 +87,23 @@ inline double chi_square_p_value(double statistic, int dof) {
 inline double sidak_significance(double alpha, int n) { return 1 - std::pow(1 - alpha, 1.0 / n); }
 
 struct ChiSquareOptions {
-  int cos_theta_bins = 40;      // over cos(theta) in [-1, 1]
-  int phi_bins = 80;            // over phi in [0, 2 pi)
-  int integration_points = 8;   // midpoints per bin and axis (theta, phi)
-  uint64_t samples = 1000000;   // calls of `sample`
-  uint64_t seed = 1;            // of the uniform numbers (std::mt19937_64)
-  double min_expected = 5;      // bins expecting fewer samples are pooled
+  int cos_theta_bins = 40;     // over cos(theta) in [-1, 1]
+  int phi_bins = 80;           // over phi in [0, 2 pi)
+  int integration_points = 8;  // midpoints per bin and axis (theta, phi)
+  uint64_t samples = 1000000;  // calls of `sample`
+  uint64_t seed = 1;           // of the uniform numbers (std::mt19937_64)
+  double min_expected = 5;     // bins expecting fewer samples are pooled
 };
 
 struct ChiSquareResult {
   double statistic = 0;
   int dof = 0;
   double p_value = 0;
-  double pdf_integral = 0;        // of the pdf over the sphere (1 for a sampler that always returns a direction)
-  uint64_t no_sample = 0;         // calls that returned no direction
-  std::string error;              // non-empty: the test fails whatever the p-value (the reason)
+  double pdf_integral = 0;  // of the pdf over the sphere (1 for a sampler that always returns a direction)
+  uint64_t no_sample = 0;   // calls that returned no direction
+  std::string error;        // non-empty: the test fails whatever the p-value (the reason)
   int cos_theta_bins = 0, phi_bins = 0;
-  std::vector<double> observed;   // per bin, cos theta bin major: [i * phi_bins + j]
+  std::vector<double> observed;  // per bin, cos theta bin major: [i * phi_bins + j]
   std::vector<double> expected;
 
   bool passed(double significance) const { return error.empty() && p_value >= significance; }
@@ -191,7 +191,8 @@ inline ChiSquareResult chi_square_test(const std::function<std::optional<glm::dv
           const double p = pdf(glm::dvec3(st * std::cos(phi), st * std::sin(phi), ct));
           if (!(p >= 0) || !std::isfinite(p)) {
             if (r.error.empty()) {
-              r.error = "pdf " + std::to_string(p) + " at theta " + std::to_string(theta) + ", phi " + std::to_string(phi);
+              r.error =
+                  "pdf " + std::to_string(p) + " at theta " + std::to_string(theta) + ", phi " + std::to_string(phi);
             }
             continue;
           }

@@ -65,16 +65,19 @@ TEST(ChiSquare, MismatchedSamplersFail) {
   r = chi_square_test(
       [](glm::dvec2 u) {
         const double t = kPi * u.x, phi = 2 * kPi * u.y;
-        return std::optional<glm::dvec3>(glm::dvec3(std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)));
+        return std::optional<glm::dvec3>(
+            glm::dvec3(std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)));
       },
       [](glm::dvec3) { return 1 / (4 * kPi); }, options);
   EXPECT_LT(r.p_value, 1e-6) << r.summary();
   // Samples where the pdf is 0: an error whatever the statistic.
-  r = chi_square_test(uniform_sphere, [](glm::dvec3 d) { return d.z > 0 ? 1 / (2 * kPi) : 0.0; }, options);
+  r = chi_square_test(
+      uniform_sphere, [](glm::dvec3 d) { return d.z > 0 ? 1 / (2 * kPi) : 0.0; }, options);
   EXPECT_FALSE(r.error.empty()) << r.summary();
   EXPECT_FALSE(r.passed(0.0));
   // A NaN pdf.
-  r = chi_square_test(uniform_sphere, [](glm::dvec3 d) { return d.z > 0.9 ? std::nan("") : 1 / (4 * kPi); }, options);
+  r = chi_square_test(
+      uniform_sphere, [](glm::dvec3 d) { return d.z > 0.9 ? std::nan("") : 1 / (4 * kPi); }, options);
   EXPECT_FALSE(r.error.empty());
 }
 
@@ -83,9 +86,9 @@ TEST(ChiSquare, MismatchedSamplersFail) {
 TEST(ChiSquare, PartialSamplerPasses) {
   ChiSquareOptions options;
   options.samples = 400000;
-  ChiSquareResult r = chi_square_test(
-      [](glm::dvec2 u) { return u.x < 0.5 ? uniform_sphere(glm::dvec2(2 * u.x, u.y)) : std::nullopt; },
-      [](glm::dvec3) { return 0.5 / (4 * kPi); }, options);
+  ChiSquareResult r =
+      chi_square_test([](glm::dvec2 u) { return u.x < 0.5 ? uniform_sphere(glm::dvec2(2 * u.x, u.y)) : std::nullopt; },
+                      [](glm::dvec3) { return 0.5 / (4 * kPi); }, options);
   EXPECT_TRUE(r.passed(0.01)) << r.summary();
   EXPECT_NEAR(r.pdf_integral, 0.5, 1e-4);
   EXPECT_NEAR(double(r.no_sample) / double(options.samples), 0.5, 0.01);
