@@ -27,6 +27,7 @@ struct ReferenceLighting {
   float svo_table(uint32_t i) const { return tables[i]; }
 #include "common/environment.glsl"
 #include "common/material.glsl"
+#include "common/sequence.glsl"
 };
 
 }  // namespace svo::math
@@ -318,8 +319,11 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
           for (size_t l = 0; l < shadow.size() && c.shadows; ++l) shadow_of_sample[l] = shadow[l][i];
           sum += shade(geometry, c, *hit, -dir, shadow_of_sample.data(), lighting ? &lit : nullptr);
           if (environment) {
-            double u[5];
-            for (double& x : u) x = rng.uniform();
+            // The forward pass's sequence (dimensions 2-6), another seed.
+            const uint32_t px = uint32_t(index), sd = uint32_t(settings.seed) ^ 0x5EEDu;
+            const double u[5] = {lit.svo_sample_1d(px, sd, i, 2), lit.svo_sample_1d(px, sd, i, 3),
+                                 lit.svo_sample_1d(px, sd, i, 4), lit.svo_sample_1d(px, sd, i, 5),
+                                 lit.svo_sample_1d(px, sd, i, 6)};
             sum += shade_environment(geometry, lit, so.env_shadows, *hit, -dir, u);
           }
         }

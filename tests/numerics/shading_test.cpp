@@ -10,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "numerics/chi_square.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
 #include "svo/render/shading.h"
@@ -319,6 +320,79 @@ TEST(AnalyticBrdfs, ReflectAtMostWhatArrives) {
       EXPECT_LE(albedo, 1.01) << brdf_name(m.kind) << " roughness " << m.roughness << " cos " << cos_v;
       if (m.kind == BrdfKind::Lambert) EXPECT_NEAR(albedo, 1.0, 0.01);
     }
+  }
+}
+
+// Each sampler against its pdf (chi-square), and the pdf's integral: the
+// microfacet and Phong lobes alone and mixed with the diffuse lobe, at
+// several view elevations, isotropic and anisotropic.
+TEST(AnalyticBrdfs, SamplersFollowTheirPdfs) {
+  ShadingKernel k{};
+  struct Case {
+    BrdfKind kind;
+    float roughness;
+    glm::vec2 anisotropy;
+    float diffuse;
+  };
+  const std::vector<Case> cases = {
+      {BrdfKind::Beckmann, 0.3f, {1, 1}, 0}, {BrdfKind::Beckmann, 0.6f, {0.25f, 2.0f}, 0},
+      {BrdfKind::Ggx, 0.2f, {1, 1}, 0},      {BrdfKind::Ggx, 0.5f, {3.0f, 0.5f}, 0},
+      {BrdfKind::Phong, 0.3f, {1, 1}, 0},    {BrdfKind::Ggx, 0.3f, {1, 1}, 0.5f},
+      {BrdfKind::Lambert, 1.0f, {1, 1}, 1},
+  };
+  const float views[] = {10, 50, 80};
+  const double alpha = svo::test::sidak_significance(0.01, int(cases.size() * std::size(views)));
+  for (const Case& c : cases) {
+    Material m;
+    m.kind = c.kind;
+    m.roughness = c.roughness;
+    m.exponent = 2.0f / (c.roughness * c.roughness) - 2.0f;
+    m.diffuse = glm::vec3(c.diffuse);
+    m.f0 = glm::vec3(0.5f);
+    const auto s = to_shader(m, c.anisotropy);
+    for (float deg : views) {
+      const float t = glm::radians(deg);
+      const glm::vec3 v(std::sin(t) * 0.6f, std::sin(t) * 0.8f, std::cos(t));
+      std::mt19937 lobe_rng(17);
+      std::uniform_real_distribution<float> u01(0, 1);
+      svo::test::ChiSquareOptions options;
+      options.samples = 400000;
+      const auto r = svo::test::chi_square_test(
+          [&](glm::dvec2 u) -> std::optional<glm::dvec3> {
+            const glm::vec4 d = k.svo_sample_material(s, glm::vec3(1), v, glm::vec3(u.x, u.y, u01(lobe_rng)));
+            if (!(d.w > 0)) return std::nullopt;
+            return glm::dvec3(glm::vec3(d));
+          },
+          [&](glm::dvec3 d) { return double(k.svo_material_pdf(s, glm::vec3(1), v, glm::vec3(d))); }, options);
+      const std::string what = std::string(brdf_name(c.kind)) + " roughness " + std::to_string(c.roughness) +
+                               " view " + std::to_string(deg) + ": " + r.summary();
+      EXPECT_TRUE(r.passed(alpha)) << what;
+      // Directions reflected below the plane are no sample: the pdf's
+      // integral is the share of samples returned.
+      EXPECT_NEAR(r.pdf_integral, 1.0 - double(r.no_sample) / double(options.samples), 0.01) << what;
+    }
+  }
+}
+
+TEST(Environment, TheSamplerFollowsItsPdf) {
+  std::vector<Environment> maps = {sky()};
+  const fs::path forest = "/usr/share/blender/datafiles/studiolights/world/forest.exr";
+  if (fs::exists(forest)) maps.push_back(load_environment(forest));
+  for (const Environment& env : maps) {
+    Lit lit(env, 40.0f);
+    svo::test::ChiSquareOptions options;
+    options.samples = 1000000;
+    options.integration_points = 64;  // a piecewise-constant pdf, texels 13x smaller than a bin
+    const auto r = svo::test::chi_square_test(
+        [&](glm::dvec2 u) -> std::optional<glm::dvec3> {
+          const glm::vec4 d = lit.k.svo_env_sample(lit.k.shade, glm::vec2(u));
+          if (!(d.w > 0)) return std::nullopt;
+          return glm::dvec3(glm::vec3(d));
+        },
+        [&](glm::dvec3 d) { return double(lit.k.svo_env_pdf(lit.k.shade, glm::vec3(d))); }, options);
+    EXPECT_TRUE(r.passed(0.005)) << env.source << ": " << r.summary();
+    EXPECT_NEAR(r.pdf_integral, 1.0, 0.01) << env.source;
+    EXPECT_EQ(r.no_sample, 0u) << env.source;
   }
 }
 

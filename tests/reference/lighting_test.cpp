@@ -37,7 +37,7 @@ TEST(ReferenceLighting, AWhiteFurnaceIsOneOnEveryPixel) {
   white->diffuse = glm::vec3(2.0f);
   ReferenceSettings rs;
   rs.render = view(std::make_shared<const render::Environment>(render::constant_environment(glm::vec3(1))), white, 1);
-  rs.spp = 64;
+  rs.spp = 1024;
   const render::Frame f = render_reference(*geometry, rs);
   double worst = 0;
   uint32_t covered = 0;
