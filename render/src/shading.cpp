@@ -11,6 +11,18 @@
 #include "svo/render/image_io.h"
 #include "svo/render/merl.h"
 
+namespace svo::math {
+
+struct MaterialKernel {
+  SvoShadeParams shade;
+  const float* tables;
+  float svo_table(uint32_t i) const { return tables[i]; }
+#include "common/material.glsl"
+#include "common/sequence.glsl"
+};
+
+}  // namespace svo::math
+
 namespace svo::render {
 
 namespace fs = std::filesystem;
@@ -292,6 +304,36 @@ Material builtin_material(float specular, float sigma_rho2) {
   m.f0 = glm::vec3(specular);
   m.roughness = std::sqrt(std::max(2.0f * sigma_rho2, 1e-6f));
   return m;
+}
+
+struct MaterialEvaluator::Impl {
+  ShadingTables tables;
+  svo::math::MaterialKernel kernel;
+  svo::math::SvoMaterial material;
+};
+
+MaterialEvaluator::MaterialEvaluator(const Material& m) : impl_(std::make_unique<Impl>()) {
+  impl_->tables = build_shading_tables(ShadingOptions{}, m, false);
+  impl_->kernel = svo::math::MaterialKernel{impl_->tables.params, impl_->tables.floats.data()};
+  impl_->material = svo::math::svo_material_of(impl_->tables.params);
+}
+
+MaterialEvaluator::~MaterialEvaluator() = default;
+
+glm::vec3 MaterialEvaluator::brdf(glm::vec3 tint, glm::vec3 wi, glm::vec3 wo) const {
+  return impl_->kernel.svo_material_brdf(impl_->material, tint, wo, wi);
+}
+
+glm::vec3 MaterialEvaluator::albedo(glm::vec3 tint, glm::vec3 wo, uint32_t samples) const {
+  glm::dvec3 sum(0);
+  auto& k = impl_->kernel;
+  for (uint32_t i = 0; i < samples; ++i) {
+    const glm::vec3 u(k.svo_sample_1d(0, 1, i, 0), k.svo_sample_1d(0, 1, i, 1), k.svo_sample_1d(0, 1, i, 2));
+    const glm::vec4 d = k.svo_sample_material(impl_->material, tint, wo, u);
+    if (!(d.w > 0)) continue;
+    sum += glm::dvec3(k.svo_material_brdf(impl_->material, tint, wo, glm::vec3(d))) * double(d.z / d.w);
+  }
+  return glm::vec3(sum / double(std::max(samples, 1u)));
 }
 
 ShadingTables build_shading_tables(const ShadingOptions& o, const Material& default_material, bool light_shadows) {

@@ -14,8 +14,18 @@
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
 #include "svo/render/merl.h"
+#include "svo/render/shading.h"
 #include "svo/voxelizer/mesh.h"
 #include "svo_format.h"
+
+namespace svo::math {
+struct FuzzLighting {
+  SvoShadeParams shade;
+  const float* tables;
+  float svo_table(uint32_t i) const { return tables[i]; }
+#include "common/environment.glsl"
+};
+}  // namespace svo::math
 
 namespace svo::fuzz {
 
@@ -251,8 +261,47 @@ int merl(const uint8_t* data, size_t size) {
   }
 }
 
+int environment(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  static const char* kExtensions[] = {".exr", ".hdr"};
+  TempFile file(data + 1, size - 1, kExtensions[data[0] % 2]);
+  try {
+    const render::Environment env = render::load_environment(file.path);
+    if (env.rgb.size() != size_t(env.width) * env.height * 3) broken("accepted map whose texels disagree with its size");
+    // An accepted map must sample: finite directions and densities, > 0.
+    render::ShadingOptions o;
+    o.environment = std::make_shared<const render::Environment>(env);
+    const render::ShadingTables t = render::build_shading_tables(o, render::builtin_material(0.04f, 0.01f), false);
+    svo::math::FuzzLighting lit{t.params, t.floats.data()};
+    for (float u : {0.0f, 0.37f, 0.99999994f}) {
+      const glm::vec4 s = lit.svo_env_sample(lit.shade, glm::vec2(u, 1.0f - u));
+      if (!std::isfinite(s.x) || !std::isfinite(s.y) || !std::isfinite(s.z) || !std::isfinite(s.w)) {
+        broken("an accepted map sampled a non-finite direction or pdf");
+      }
+      if (s.w > 0 && !std::isfinite(lit.svo_env_pdf(lit.shade, glm::vec3(s)))) broken("non-finite pdf");
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+int material(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  try {
+    const render::Material m = render::parse_material(text, std::filesystem::temp_directory_path(), "fuzz.json");
+    // What was accepted writes back to JSON that parses to the same kind.
+    if (m.kind != render::BrdfKind::Merl && render::parse_material(render::material_json(m), ".").kind != m.kind) {
+      broken("an accepted material does not round-trip");
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
 std::vector<std::string> target_names() {
-  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl"};
+  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl", "environment", "material"};
 }
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {
@@ -262,6 +311,8 @@ int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "camera") return camera(data, size);
   if (name == "texture") return texture(data, size);
   if (name == "merl") return merl(data, size);
+  if (name == "environment") return environment(data, size);
+  if (name == "material") return material(data, size);
   throw std::invalid_argument("no fuzz target " + name);
 }
 

@@ -45,6 +45,15 @@ int texture(const uint8_t* data, size_t size);
 // checks. An accepted table is checked: 3 x 90 x 90 x 180 finite values >= 0.
 int merl(const uint8_t* data, size_t size);
 
+// load_environment on the bytes written to a temporary file (first byte:
+// .exr or .hdr); an accepted map must build its distribution and sample
+// finite directions and densities.
+int environment(const uint8_t* data, size_t size);
+
+// parse_material on the bytes as JSON text; an accepted analytic material
+// must write back (material_json) to JSON of the same kind.
+int material(const uint8_t* data, size_t size);
+
 // The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
 // u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
 // positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
@@ -57,7 +66,7 @@ struct MeshSeed {
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
 
 // Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
-// mesh_arrays, mesh_file, camera, texture, merl), made by the library's own
+// mesh_arrays, mesh_file, camera, texture, merl, environment, material), made by the library's own
 // writers; seeds named refused-* are inputs the loader must refuse. Returns
 // the number of files written.
 int write_seeds(const std::filesystem::path& dir);

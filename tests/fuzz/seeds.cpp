@@ -13,6 +13,7 @@
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/camera_path.h"
+#include "svo/render/image_io.h"
 
 namespace svo::fuzz {
 
@@ -201,6 +202,56 @@ int write_seeds(const fs::path& dir) {
     put(d / "refused-tiled-dims", merl_seed(1, {90, 90, 360}, {0.5}));
     put(d / "refused-truncated", merl_seed(0, {90, 90, 180}, {0.5, 1.0, 2.0}));
     count += 5;
+  }
+  // Environment maps: first byte .exr (0) or .hdr (1); a small sky in each
+  // format, written by the image writer the renderer uses.
+  {
+    fs::path d = target("environment");
+    for (uint8_t k = 0; k < 2; ++k) {
+      fs::path file = d / (k == 0 ? "sky.exr" : "sky.hdr");
+      render::Frame sky;
+      sky.width = 16;
+      sky.height = 8;
+      for (uint32_t y = 0; y < sky.height; ++y) {
+        for (uint32_t x = 0; x < sky.width; ++x) {
+          sky.colour.push_back(y < 4 ? glm::vec4(0.3f, 0.5f, 0.9f, 1) : glm::vec4(0.1f, 0.08f, 0.05f, 1));
+        }
+      }
+      sky.colour[19] = glm::vec4(50, 45, 40, 1);  // a sun
+      if (k == 0) {
+        render::write_colour(file.string(), sky);
+      } else {
+        auto out = OIIO::ImageOutput::create(file.string());
+        std::vector<float> rgb;
+        for (const auto& c : sky.colour) rgb.insert(rgb.end(), {c.r, c.g, c.b});
+        OIIO::ImageSpec spec(16, 8, 3, OIIO::TypeDesc::FLOAT);
+        if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
+            !out->close()) {
+          throw std::runtime_error(file.string() + ": cannot write seed map");
+        }
+      }
+      auto bytes = file_bytes(file);
+      fs::remove(file);
+      std::vector<uint8_t> seed{k};
+      seed.insert(seed.end(), bytes.begin(), bytes.end());
+      put(d / (k == 0 ? "sky_exr" : "sky_hdr"), seed);
+      ++count;
+    }
+  }
+  // Materials: one of each analytic kind, and a refused one.
+  {
+    fs::path d = target("material");
+    const char* jsons[] = {R"({"brdf": "lambert", "colour": [0.5, 0.4, 0.3]})",
+                           R"({"name": "gold", "brdf": "ggx", "roughness": 0.3, "f0": [1, 0.8, 0.3]})",
+                           R"({"brdf": "beckmann", "roughness": 0.1, "ior": 1.5, "diffuse": 0.2})",
+                           R"({"brdf": "phong", "exponent": 200, "f0": 0.04})",
+                           R"({"brdf": "merl", "file": "missing.binary"})"};
+    const char* names[] = {"lambert", "ggx", "beckmann", "phong", "refused-merl-missing"};
+    for (int k = 0; k < 5; ++k) {
+      const std::string text = jsons[k];
+      put(d / names[k], std::vector<uint8_t>(text.begin(), text.end()));
+      ++count;
+    }
   }
   return count;
 }

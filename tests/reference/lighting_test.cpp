@@ -49,5 +49,59 @@ TEST(ReferenceLighting, AWhiteFurnaceIsOneOnEveryPixel) {
   EXPECT_LT(worst, 0.01);
 }
 
+// A sky with a sun: a bright patch, a blue upper half, a dark ground.
+render::Environment sky() {
+  render::Environment env;
+  env.width = 64;
+  env.height = 32;
+  env.source = "test-sky";
+  env.rgb.resize(64 * 32 * 3);
+  for (uint32_t y = 0; y < 32; ++y) {
+    for (uint32_t x = 0; x < 64; ++x) {
+      glm::vec3 c = y < 16 ? glm::vec3(0.3f, 0.5f, 0.9f) : glm::vec3(0.1f, 0.08f, 0.05f);
+      if (x >= 20 && x < 23 && y >= 8 && y < 10) c = glm::vec3(40.0f, 36.0f, 30.0f);
+      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * 64 + x) * 3 + k] = c[k];
+    }
+  }
+  return env;
+}
+
+// The forward pass on the voxelized sphere converges to the reference on the
+// exact one: relMSE at 1024 samples per pixel below a bound, for a glossy
+// and a diffuse material.
+TEST(ReferenceLighting, TheForwardPassConvergesToTheReference) {
+  test::SphereScene sphere(0.5f);
+  const octree::Octree tree = test::voxelize(sphere, 128);
+  auto geometry = scene_geometry(sphere);
+  auto env = std::make_shared<const render::Environment>(sky());
+  for (const char* json : {R"({"brdf": "ggx", "roughness": 0.25, "f0": [0.9, 0.6, 0.3], "diffuse": 0.3})",
+                           R"({"brdf": "lambert"})"}) {
+    auto material = std::make_shared<const render::Material>(render::parse_material(json, "."));
+    render::RenderSettings s = view(env, material, 1024);
+    s.width = 64;
+    s.height = 48;
+    render::NativeRenderer renderer(tree);
+    renderer.add_pass(render::make_pass("forward"));
+    const render::Frame frame = renderer.render(s);
+    ReferenceSettings rs;
+    rs.render = s;
+    rs.spp = 1024;
+    const render::Frame truth = render_reference(*geometry, rs);
+    auto image = [](const render::Frame& f) {
+      render::Image im;
+      im.width = int(f.width);
+      im.height = int(f.height);
+      im.channels = {"R", "G", "B", "A"};
+      for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
+      return im;
+    };
+    const ImageErrors e = compare_images(image(frame), image(truth));
+    std::printf("%s: relMSE %.5f, RMSE %.5f, max %.4f\n", material->name.c_str(), e.relmse, e.rmse, e.max_error);
+    test::save_for_inspection(frame, std::string("lighting_forward_") + render::brdf_name(material->kind));
+    test::save_for_inspection(truth, std::string("lighting_reference_") + render::brdf_name(material->kind));
+    EXPECT_LT(e.relmse, 0.001) << json;  // measured 0.00014 (GGX) and 0.00010 (Lambert)
+  }
+}
+
 }  // namespace
 }  // namespace svo::reference

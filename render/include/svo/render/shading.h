@@ -73,6 +73,26 @@ std::string material_json(const Material& material);
 // variance sigma_rho^2: alpha = sqrt(2 sigma_rho^2)).
 Material builtin_material(float specular, float sigma_rho2);
 
+// A material's BRDF as the shading kernels evaluate and sample it, for a flat
+// point of colour `tint` (local frame, normal +z): for `svo material`, the
+// MERL export and the tests.
+class MaterialEvaluator {
+ public:
+  explicit MaterialEvaluator(const Material& material);
+  ~MaterialEvaluator();
+  MaterialEvaluator(const MaterialEvaluator&) = delete;
+  MaterialEvaluator& operator=(const MaterialEvaluator&) = delete;
+  // f(wi, wo): tint diffuse / pi plus the lobe; 0 where either is at or below the plane.
+  glm::vec3 brdf(glm::vec3 tint, glm::vec3 wi, glm::vec3 wo) const;
+  // The directional albedo int f cos over the hemisphere for view wo, by
+  // `samples` samples of the material's own sampler.
+  glm::vec3 albedo(glm::vec3 tint, glm::vec3 wo, uint32_t samples) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // What a frame's shading passes need besides the G-buffer.
 struct ShadingOptions {
   std::shared_ptr<const Environment> environment;  // null: none
