@@ -22,6 +22,7 @@
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
+#include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 #include "svo/render/vk_context.h"
 #include "view_options.h"
@@ -38,6 +39,8 @@ struct FlythroughArgs {
   std::string out;
   PathOptions path;
   ViewOptions view;
+  LightingOptions lighting;
+  uint32_t spp = 16;
   std::string mode = "prefiltered";
   uint32_t repeats = 1;
   uint32_t strip = 8;
@@ -106,6 +109,10 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->default_val("prefiltered")
       ->group("Shading");
   add_light_options(*cmd, a->view);
+  add_lighting_options(*cmd, a->lighting);
+  cmd->add_option("--spp", a->spp, "Samples per pixel of the forward-shading pass (with --env or --material)")
+      ->check(CLI::Range(1u, 4096u))
+      ->group("Lighting");
   cmd->add_option("--repeats", a->repeats, "Renders per frame; the median GPU time is reported")
       ->default_val(1)
       ->check(CLI::Range(1u, 100u))
@@ -152,8 +159,14 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     settings.shadows = a->view.shadows;
     settings.lights = make_lights(a->view, tree.origin + glm::vec3(0.5f * tree.size));
     settings.gbuffer = true;  // the depths give the levels used
+    apply_lighting(a->lighting, settings);
+    settings.shading.spp = a->spp;
     std::unique_ptr<render::Renderer> made = render::make_renderer(tree, {a->device, a->validate});
     render::Renderer& renderer = *made;
+    if (uses_lighting(a->lighting)) {
+      if (*mode != render::Mode::Prefiltered) throw std::invalid_argument("--env and --material need --mode prefiltered");
+      renderer.add_pass(render::make_pass("forward"));
+    }
 
     // --- Frames.
     ProgressBar bar("flythrough");

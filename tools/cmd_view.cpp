@@ -17,7 +17,9 @@
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
 #include "svo/render/vk_context.h"
+#include "svo/render/passes.h"
 #include "svo/render/vk_swapchain.h"
+#include "view_options.h"
 #include "view_orbit.h"
 #include "view_window.h"
 
@@ -25,7 +27,7 @@ namespace svo::tools {
 
 namespace {
 
-struct ViewOptions {
+struct ViewerOptions {
   std::string path;
   int width = 800, height = 600;
   double scale = 0;  // 0: automatic
@@ -36,6 +38,8 @@ struct ViewOptions {
   int frames = 0;
   std::string screenshot;
   bool validate = false;
+  LightingOptions lighting;
+  uint32_t spp = 4;
 };
 
 const char* kControls =
@@ -56,7 +60,7 @@ std::string format_ms(double ms) {
 void add_view_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("view", "Look at a .svo file in a window (GLFW, Vulkan swapchain)");
   cmd->footer(kControls);
-  auto opt = std::make_shared<ViewOptions>();
+  auto opt = std::make_shared<ViewerOptions>();
   cmd->add_option("FILE", opt->path, "The octree (.svo)")->required();
   auto* window = cmd->add_option_group("Window");
   window->add_option("--width", opt->width, "Window width in pixels")->default_val(800)->check(CLI::Range(16, 8192));
@@ -84,6 +88,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
   run->add_option("--frames", opt->frames, "Render this many frames, then exit 0 (for tests; default 0: until closed)")
       ->check(CLI::Range(0, 1000000));
   run->add_option("--screenshot", opt->screenshot, "On exit, write the last rendered frame here (.png or .exr)");
+  add_lighting_options(*cmd, opt->lighting);
+  cmd->add_option("--spp", opt->spp, "Samples per pixel of the forward-shading pass (with --env or --material)")
+      ->check(CLI::Range(1u, 4096u))
+      ->group("Lighting");
 
   cmd->callback([opt, &exit_code] {
     if (!opt->screenshot.empty()) {
@@ -123,11 +131,14 @@ void add_view_command(CLI::App& app, int& exit_code) {
       made = std::make_unique<render::GpuRenderer>(context, tree);
     }
     render::Renderer& renderer = *made;
+    if (uses_lighting(opt->lighting)) renderer.add_pass(render::make_pass("forward"));
     double scale = opt->scale > 0 ? opt->scale : native || context.info().type == "cpu" ? 0.5 : 1.0;
 
     render::RenderSettings settings;
     settings.mode = *render::parse_mode(opt->mode);
     settings.shadows = opt->shadows;
+    apply_lighting(opt->lighting, settings);
+    settings.shading.spp = opt->spp;
     float aspect = float(fb_width) / float(std::max(fb_height, 1u));
     Orbit orbit(render::view_preset(tree, opt->view, aspect), tree.size);
 

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -285,13 +286,20 @@ Material load_material(const fs::path& path) {
 }
 
 std::string material_json(const Material& m) {
+  // Floats as the shortest decimals that read back as the same floats.
+  auto f = [](float v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::stod(std::string(buf, r.ptr));
+  };
+  auto rgb = [&](glm::vec3 c) { return json::array({f(c.r), f(c.g), f(c.b)}); };
   json j;
   j["name"] = m.name;
   j["brdf"] = brdf_name(m.kind);
-  j["diffuse"] = {m.diffuse.r, m.diffuse.g, m.diffuse.b};
-  if (m.kind == BrdfKind::Beckmann || m.kind == BrdfKind::Ggx) j["roughness"] = m.roughness;
-  if (m.kind != BrdfKind::Lambert && m.kind != BrdfKind::Merl) j["f0"] = {m.f0.r, m.f0.g, m.f0.b};
-  if (m.kind == BrdfKind::Phong) j["exponent"] = m.exponent;
+  j["diffuse"] = rgb(m.diffuse);
+  if (m.kind == BrdfKind::Beckmann || m.kind == BrdfKind::Ggx) j["roughness"] = f(m.roughness);
+  if (m.kind != BrdfKind::Lambert && m.kind != BrdfKind::Merl) j["f0"] = rgb(m.f0);
+  if (m.kind == BrdfKind::Phong) j["exponent"] = f(m.exponent);
   if (m.kind == BrdfKind::Merl) j["file"] = m.file.string();
   return j.dump();
 }
