@@ -12,6 +12,8 @@
 # FUZZ_DIR/fuzz/<target>/artifacts/, the full log to .../log.txt. Exit 1 if
 # any target found a crash, a leak, a timeout (10 s) or an out-of-memory (3 GiB).
 # A finding becomes a regression test: tests/fuzz/regressions/<target>/.
+# FUZZ_SKIP_BUILD=1 skips setup and build (for runs in parallel over a
+# tree built already: FUZZ_SKIP_BUILD=1 scripts/fuzz.sh 1800 merl & ...).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FUZZ_DIR="${FUZZ_DIR:-$ROOT/build-fuzz}"
@@ -22,17 +24,19 @@ if ((${#TARGETS[@]} == 0)); then TARGETS=(svo_load mesh_arrays mesh_file camera 
 
 # The libraries (scripts/setup.sh), then Clang with libFuzzer, which only
 # fuzzing needs.
-"$ROOT/scripts/setup.sh" > /dev/null
-source "$ROOT/scripts/bench_common.sh"
-need_packages clang libclang-rt-14-dev
+if [ "${FUZZ_SKIP_BUILD:-0}" != 1 ]; then
+  "$ROOT/scripts/setup.sh" > /dev/null
+  source "$ROOT/scripts/bench_common.sh"
+  need_packages clang libclang-rt-14-dev
 
-if [ ! -f "$FUZZ_DIR/build.ninja" ]; then
-  CC=clang CXX=clang++ cmake -S "$ROOT" -B "$FUZZ_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSVO_SANITIZE=ON \
-    -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+  if [ ! -f "$FUZZ_DIR/build.ninja" ]; then
+    CC=clang CXX=clang++ cmake -S "$ROOT" -B "$FUZZ_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSVO_SANITIZE=ON \
+      -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+  fi
+  cmake --build "$FUZZ_DIR" -j2 --target svo_fuzz_seeds "${TARGETS[@]/#/svo_fuzz_}"
+
+  "$FUZZ_DIR/tests/fuzz/svo_fuzz_seeds" "$FUZZ_DIR/fuzz/seeds" > /dev/null
 fi
-cmake --build "$FUZZ_DIR" -j2 --target svo_fuzz_seeds "${TARGETS[@]/#/svo_fuzz_}"
-
-"$FUZZ_DIR/tests/fuzz/svo_fuzz_seeds" "$FUZZ_DIR/fuzz/seeds" > /dev/null
 status=0
 for t in "${TARGETS[@]}"; do
   dir="$FUZZ_DIR/fuzz/$t"
