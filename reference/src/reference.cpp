@@ -21,10 +21,7 @@ namespace svo::math {
 
 // The environment and material of shaders/common, as the forward pass reads
 // them, for the reference's own sampling.
-struct ReferenceLighting {
-  SvoShadeParams shade;
-  const float* tables;
-  float svo_table(uint32_t i) const { return tables[i]; }
+struct ReferenceLighting : render::NativeShadingReader {
 #include "common/environment.glsl"
 #include "common/material.glsl"
 #include "common/sequence.glsl"
@@ -271,7 +268,7 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
       lighting ? render::build_shading_tables(so, render::builtin_material(c.specular, geometry.sigma_rho2()), false)
                : render::ShadingTables{};
   // Its functions only read (non-const members: the GLSL is included in the struct).
-  svo::math::ReferenceLighting lit{tables.params, tables.floats.data()};
+  svo::math::ReferenceLighting lit{{tables.params, tables.floats.data()}};
   const bool environment = bool(so.environment);
   const uint32_t width = settings.render.width, height = settings.render.height, n = settings.spp;
   const glm::uvec2 shape = grid_shape(n);

@@ -15,10 +15,7 @@
 
 namespace svo::math {
 
-struct NativeForward : render::NativeOctreeReader {
-  SvoShadeParams shade;
-  const float* tables;
-  float svo_table(uint32_t i) const { return tables[i]; }
+struct NativeForward : render::NativeOctreeReader, render::NativeShadingReader {
 #include "common/forward.glsl"
 };
 
@@ -99,7 +96,7 @@ double ForwardPass::run(PassContext& ctx) {
     return ms;
   }
   auto start = std::chrono::steady_clock::now();
-  svo::math::NativeForward kernel{octree.native(params), t.params, t.floats.data()};
+  svo::math::NativeForward kernel{octree.native(params), {t.params, t.floats.data()}};
   const auto* g = static_cast<const glm::vec4*>(gbuffer.data());
   const auto* back = static_cast<const glm::vec4*>(background.data());
   auto* colour = static_cast<glm::vec4*>(out.data());

@@ -14,10 +14,7 @@
 
 namespace svo::math {
 
-struct MaterialKernel {
-  SvoShadeParams shade;
-  const float* tables;
-  float svo_table(uint32_t i) const { return tables[i]; }
+struct MaterialKernel : render::NativeShadingReader {
 #include "common/material.glsl"
 #include "common/sequence.glsl"
 };
@@ -322,7 +319,7 @@ struct MaterialEvaluator::Impl {
 
 MaterialEvaluator::MaterialEvaluator(const Material& m) : impl_(std::make_unique<Impl>()) {
   impl_->tables = build_shading_tables(ShadingOptions{}, m, false);
-  impl_->kernel = svo::math::MaterialKernel{impl_->tables.params, impl_->tables.floats.data()};
+  impl_->kernel = svo::math::MaterialKernel{{impl_->tables.params, impl_->tables.floats.data()}};
   impl_->material = svo::math::svo_material_of(impl_->tables.params);
 }
 

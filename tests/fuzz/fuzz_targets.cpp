@@ -19,10 +19,7 @@
 #include "svo_format.h"
 
 namespace svo::math {
-struct FuzzLighting {
-  SvoShadeParams shade;
-  const float* tables;
-  float svo_table(uint32_t i) const { return tables[i]; }
+struct FuzzLighting : render::NativeShadingReader {
 #include "common/environment.glsl"
 };
 }  // namespace svo::math
@@ -272,7 +269,7 @@ int environment(const uint8_t* data, size_t size) {
     render::ShadingOptions o;
     o.environment = std::make_shared<const render::Environment>(env);
     const render::ShadingTables t = render::build_shading_tables(o, render::builtin_material(0.04f, 0.01f), false);
-    svo::math::FuzzLighting lit{t.params, t.floats.data()};
+    svo::math::FuzzLighting lit{{t.params, t.floats.data()}};
     for (float u : {0.0f, 0.37f, 0.99999994f}) {
       const glm::vec4 s = lit.svo_env_sample(lit.shade, glm::vec2(u, 1.0f - u));
       if (!std::isfinite(s.x) || !std::isfinite(s.y) || !std::isfinite(s.z) || !std::isfinite(s.w)) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../render/test_lighting.h"
 #include "../render/test_scenes.h"
 #include "svo/render/passes.h"
 #include "svo/render/renderer.h"
@@ -53,25 +54,6 @@ class ForwardOnBothHosts : public ::testing::Test {
 
 octree::Octree* ForwardOnBothHosts::tree_ = nullptr;
 
-// A map whose radiance varies strongly with direction: a bright sun-like
-// patch, a blue sky, a dark ground, and an empty (black) row band.
-Environment test_sky(uint32_t w = 64, uint32_t h = 32) {
-  Environment env;
-  env.width = w;
-  env.height = h;
-  env.source = "test-sky";
-  env.rgb.resize(size_t(w) * h * 3);
-  for (uint32_t y = 0; y < h; ++y) {
-    for (uint32_t x = 0; x < w; ++x) {
-      glm::vec3 c = y < h / 2 ? glm::vec3(0.3f, 0.5f, 0.9f) : glm::vec3(0.1f, 0.08f, 0.05f);
-      if (y >= h / 2 && y < h / 2 + 2) c = glm::vec3(0);  // black rows
-      if (x >= w / 4 && x < w / 4 + 3 && y >= h / 5 && y < h / 5 + 2) c = glm::vec3(40.0f, 36.0f, 30.0f);
-      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * w + x) * 3 + k] = c[k];
-    }
-  }
-  validate_environment(env);
-  return env;
-}
 
 TEST_F(ForwardOnBothHosts, AWhiteFurnaceIsOneOnEveryPixel) {
   Material white;
@@ -104,7 +86,7 @@ TEST_F(ForwardOnBothHosts, BothHostsAgreeUnderAnEnvironmentWithAGlossyMaterial) 
   ggx.diffuse = glm::vec3(0.8f);
   ggx.f0 = glm::vec3(0.9f, 0.6f, 0.3f);
   ggx.roughness = 0.15f;
-  RenderSettings s = settings(test_sky(), ggx, 16);
+  RenderSettings s = settings(test::sky(), ggx, 16);
   s.shading.env_rotate_deg = 30;
   const Frame a = renderers_[0]->render(s);
   const Frame b = renderers_[1]->render(s);
@@ -127,7 +109,7 @@ TEST_F(ForwardOnBothHosts, BothHostsAgreeUnderAnEnvironmentWithAGlossyMaterial) 
 TEST_F(ForwardOnBothHosts, TheEnvironmentIsTheBackground) {
   Material white;
   white.kind = BrdfKind::Lambert;
-  RenderSettings s = settings(test_sky(), white, 1);
+  RenderSettings s = settings(test::sky(), white, 1);
   for (auto& r : renderers_) {
     const Frame f = r->render(s);
     // The top-left corner looks up into the sky (blue), off the sphere.

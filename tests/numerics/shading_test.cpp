@@ -11,15 +11,13 @@
 #include <random>
 
 #include "numerics/chi_square.h"
+#include "render/test_lighting.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
 #include "svo/render/shading.h"
 
 namespace svo::math {
-struct ShadingKernel {
-  SvoShadeParams shade;
-  const float* tables;
-  float svo_table(uint32_t i) const { return tables[i]; }
+struct ShadingKernel : render::NativeShadingReader {
 #include "common/environment.glsl"
 #include "common/material.glsl"
 };
@@ -30,25 +28,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using svo::math::ShadingKernel;
+using test::sky;
 
-Environment sky(uint32_t w = 64, uint32_t h = 32) {
-  Environment env;
-  env.width = w;
-  env.height = h;
-  env.source = "test-sky";
-  env.rgb.resize(size_t(w) * h * 3);
-  for (uint32_t y = 0; y < h; ++y) {
-    for (uint32_t x = 0; x < w; ++x) {
-      glm::vec3 c = y < h / 2 ? glm::vec3(0.3f, 0.5f, 0.9f) : glm::vec3(0.1f, 0.08f, 0.05f);
-      if (y >= h / 2 && y < h / 2 + 2) c = glm::vec3(0);                 // empty rows
-      if (y == 0 || y == h - 1) c = glm::vec3(0);                          // black poles
-      if (x >= w / 4 && x < w / 4 + 3 && y >= h / 5 && y < h / 5 + 2) c = glm::vec3(400.0f, 360.0f, 300.0f);
-      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * w + x) * 3 + k] = c[k];
-    }
-  }
-  validate_environment(env);
-  return env;
-}
 
 struct Lit {
   ShadingTables t;
@@ -58,7 +39,7 @@ struct Lit {
     o.environment = std::make_shared<const Environment>(env);
     o.env_rotate_deg = rotate;
     t = build_shading_tables(o, builtin_material(0.04f, 0.01f), false);
-    k = ShadingKernel{t.params, t.floats.data()};
+    k = ShadingKernel{{t.params, t.floats.data()}};
   }
 };
 

@@ -16,6 +16,7 @@
 #include "svo/render/camera.h"
 #include "svo/voxelizer/mesh.h"
 #include "temp_dir.h"
+#include "test_lighting.h"
 #include "test_scenes.h"
 
 namespace svo::reference {
@@ -55,22 +56,6 @@ TEST(ReferenceLighting, AWhiteFurnaceIsOneOnEveryPixel) {
   EXPECT_LT(worst, 0.01);
 }
 
-// A sky with a sun: a bright patch, a blue upper half, a dark ground.
-render::Environment sky() {
-  render::Environment env;
-  env.width = 64;
-  env.height = 32;
-  env.source = "test-sky";
-  env.rgb.resize(64 * 32 * 3);
-  for (uint32_t y = 0; y < 32; ++y) {
-    for (uint32_t x = 0; x < 64; ++x) {
-      glm::vec3 c = y < 16 ? glm::vec3(0.3f, 0.5f, 0.9f) : glm::vec3(0.1f, 0.08f, 0.05f);
-      if (x >= 20 && x < 23 && y >= 8 && y < 10) c = glm::vec3(40.0f, 36.0f, 30.0f);
-      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * 64 + x) * 3 + k] = c[k];
-    }
-  }
-  return env;
-}
 
 // The forward pass on the octree of `source` (at `resolution`^3) against the
 // reference on the exact `geometry`, seen by `camera` at 64x48 pixels, 1024
@@ -79,7 +64,7 @@ render::Environment sky() {
 void expect_converges(const std::string& name, voxelizer::SurfaceSource& source, const Geometry& geometry,
                       uint32_t resolution, std::optional<render::Camera> camera, double bound) {
   const octree::Octree tree = test::voxelize(source, resolution);
-  auto env = std::make_shared<const render::Environment>(sky());
+  auto env = std::make_shared<const render::Environment>(test::sky(64, 32, false));
   for (const char* json : {R"({"brdf": "ggx", "roughness": 0.25, "f0": [0.9, 0.6, 0.3], "diffuse": 0.3})",
                            R"({"brdf": "lambert"})"}) {
     auto material = std::make_shared<const render::Material>(render::parse_material(json, "."));

@@ -18,6 +18,16 @@ namespace svo::render {
 
 struct MerlBrdf;
 
+// The host contract of the shading GLSL on the native host: the shading
+// tables (distribution.glsl's svo_table) and the parameters (forward.glsl's
+// `shade`). A kernel derives from it and includes the GLSL it needs in its
+// body, as NativeOctreeReader's kernels do.
+struct NativeShadingReader {
+  svo::math::SvoShadeParams shade{};
+  const float* tables = nullptr;
+  float svo_table(uint32_t i) const { return tables[i]; }
+};
+
 // A latitude-longitude environment map, +Y up, linear RGB.
 struct Environment {
   uint32_t width = 0, height = 0;
