@@ -173,10 +173,18 @@ namespace {
 
 using nlohmann::json;
 
+// A string from the file as messages show it: in single quotes, control
+// characters escaped as JSON escapes them (so that a message stays one
+// line), at most 40 characters.
+std::string shown(const std::string& s) {
+  const std::string q = json(s.size() > 40 ? s.substr(0, 40) + "..." : s).dump();
+  return "'" + q.substr(1, q.size() - 2) + "'";
+}
+
 struct KeyError {
   std::string where;
   std::runtime_error operator()(const std::string& key, const std::string& why) const {
-    return std::runtime_error("material: " + where + ": key '" + key + "': " + why);
+    return std::runtime_error("material: " + where + ": key " + shown(key) + ": " + why);
   }
 };
 
@@ -235,7 +243,7 @@ Material parse_material(const std::string& text, const fs::path& base, const std
   for (BrdfKind k : {BrdfKind::Lambert, BrdfKind::Beckmann, BrdfKind::Ggx, BrdfKind::Phong, BrdfKind::Merl}) {
     if (brdf == brdf_name(k)) m.kind = k, known = true;
   }
-  if (!known) throw err("brdf", "'" + brdf + "' is none of lambert, beckmann, ggx, phong, merl");
+  if (!known) throw err("brdf", shown(brdf) + " is none of lambert, beckmann, ggx, phong, merl");
   if (j.contains("name")) {
     if (!j["name"].is_string()) throw err("name", "not a string");
     m.name = j["name"].get<std::string>();
@@ -256,7 +264,11 @@ Material parse_material(const std::string& text, const fs::path& base, const std
   if (j.contains("exponent")) m.exponent = number(j, "exponent", 0.0f, 1e6f, err);
   if (j.contains("file")) {
     if (!j["file"].is_string()) throw err("file", "not a string");
-    m.file = j["file"].get<std::string>();
+    const std::string file = j["file"].get<std::string>();
+    if (std::any_of(file.begin(), file.end(), [](char c) { return (unsigned char)(c) < 0x20; })) {
+      throw err("file", shown(file) + " holds control characters");
+    }
+    m.file = file;
     if (m.file.is_relative()) m.file = base / m.file;
   }
   if (m.kind == BrdfKind::Merl) {

@@ -222,6 +222,10 @@ TEST(MaterialJson, ValidMaterialsParseAndBadKeysAreNamed) {
       {R"({"brdf": "merl", "file": "/nonexistent.binary"})", "merl: "},
       {R"([1, 2])", "not a JSON object"},
       {R"({"brdf": )", "not JSON"},
+      // Strings from the file stay on one line (a fuzz finding: a newline in the value).
+      {R"({"brdf": "mer\nl"})", "key 'brdf': 'mer\\nl' is none of"},
+      {R"({"brdf": "merl", "file": "x\ny.binary"})", "key 'file': 'x\\ny.binary' holds control characters"},
+      {R"({"brdf": "ggx", "a\nb": 1})", "key 'a\\nb': unknown"},
   };
   for (const auto& [json, expected] : bad) {
     const std::string e = material_error(json);
