@@ -177,7 +177,9 @@ using nlohmann::json;
 // characters escaped as JSON escapes them (so that a message stays one
 // line), at most 40 characters.
 std::string shown(const std::string& s) {
-  const std::string q = json(s.size() > 40 ? s.substr(0, 40) + "..." : s).dump();
+  // Invalid UTF-8 (cut at 40 bytes, or in the file) shows as U+FFFD, never throws.
+  const std::string q =
+      json(s.size() > 40 ? s.substr(0, 40) + "..." : s).dump(-1, ' ', false, json::error_handler_t::replace);
   return "'" + q.substr(1, q.size() - 2) + "'";
 }
 

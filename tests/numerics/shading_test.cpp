@@ -207,7 +207,7 @@ TEST(MaterialJson, ValidMaterialsParseAndBadKeysAreNamed) {
   EXPECT_EQ(again.kind, g.kind);
   EXPECT_EQ(again.f0, g.f0);
   EXPECT_EQ(again.roughness, g.roughness);
-  const std::pair<const char*, const char*> bad[] = {
+  const std::pair<std::string, std::string> bad[] = {
       {R"({"brdf": "ggx", "roughnes": 0.3})", "key 'roughnes': unknown"},
       {R"({"roughness": 0.3})", "key 'brdf': missing"},
       {R"({"brdf": "glass"})", "key 'brdf': 'glass' is none of"},
@@ -226,6 +226,8 @@ TEST(MaterialJson, ValidMaterialsParseAndBadKeysAreNamed) {
       {R"({"brdf": "mer\nl"})", "key 'brdf': 'mer\\nl' is none of"},
       {R"({"brdf": "merl", "file": "x\ny.binary"})", "key 'file': 'x\\ny.binary' holds control characters"},
       {R"({"brdf": "ggx", "a\nb": 1})", "key 'a\\nb': unknown"},
+      // A key cut inside a UTF-8 sequence in the message (a fuzz finding: it threw).
+      {"{\"" + std::string(39, 'x') + "\xc3\xa9\": 1, \"brdf\": \"ggx\"}", "unknown"},
   };
   for (const auto& [json, expected] : bad) {
     const std::string e = material_error(json);
