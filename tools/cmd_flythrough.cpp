@@ -164,7 +164,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     std::unique_ptr<render::Renderer> made = render::make_renderer(tree, {a->device, a->validate});
     render::Renderer& renderer = *made;
     if (uses_lighting(a->lighting)) {
-      if (*mode != render::Mode::Prefiltered) throw std::invalid_argument("--env and --material need --mode prefiltered");
+      if (*mode != render::Mode::Prefiltered)
+        throw std::invalid_argument("--env and --material need --mode prefiltered");
       renderer.add_pass(render::make_pass("forward"));
     }
 

@@ -35,7 +35,7 @@ struct RenderArgs {
   std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
   std::string mode = "prefiltered";
-  uint32_t spp = 0;  // 0: the default of the mode (1 ray) or of forward shading (16 samples)
+  uint32_t spp = 0;     // 0: the default of the mode (1 ray) or of forward shading (16 samples)
   std::string shading;  // tracer or forward; empty: forward with --env or --material, else tracer
   LightingOptions lighting;
   uint32_t seed = 1;
@@ -305,9 +305,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"spp", forward ? settings.shading.spp : rays},
                          {"shading", forward ? "forward" : "tracer"},
                          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
-                         {"material", settings.shading.material ? nlohmann::json::parse(render::material_json(
-                                                                       *settings.shading.material))
-                                                                 : nlohmann::json(nullptr)},
+                         {"material", settings.shading.material
+                                          ? nlohmann::json::parse(render::material_json(*settings.shading.material))
+                                          : nlohmann::json(nullptr)},
                          {"view", view_name},
                          {"device", renderer->device_name()},
                          {"device_type", renderer->device_type()},

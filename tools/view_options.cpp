@@ -1,9 +1,8 @@
 #include "view_options.h"
 
-#include <cstdio>
-
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 

@@ -46,8 +46,8 @@ double ForwardPass::run(PassContext& ctx) {
   const Material fallback = builtin_material(ctx.settings.specular, params.material.x);
   Cache& c = *cache_;
   const bool same = c.valid && c.environment == options.environment.get() && c.material == options.material.get() &&
-                    (options.material || (c.default_material.f0 == fallback.f0 &&
-                                          c.default_material.roughness == fallback.roughness));
+                    (options.material ||
+                     (c.default_material.f0 == fallback.f0 && c.default_material.roughness == fallback.roughness));
   if (!same) {
     c.tables = build_shading_tables(options, fallback, ctx.settings.shadows);
     c.environment = options.environment.get();
@@ -71,7 +71,8 @@ double ForwardPass::run(PassContext& ctx) {
     if (!c.kernel) {
       const auto spirv =
           octree.pick_kernel(svo_spv_forward_single_comp, svo_spv_forward_address_comp, svo_spv_forward_switch_comp);
-      c.kernel = std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 5 + octree.binding_count(), 2 * sizeof(uint32_t));
+      c.kernel =
+          std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 5 + octree.binding_count(), 2 * sizeof(uint32_t));
       c.shade = std::make_unique<vk::Buffer>(*ctx.vulkan, sizeof(svo::math::SvoShadeParams));
     }
     if (!c.floats) {
@@ -102,8 +103,8 @@ double ForwardPass::run(PassContext& ctx) {
   auto* colour = static_cast<glm::vec4*>(out.data());
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& r) {
     for (uint32_t i = r.begin(); i != r.end(); ++i)
-      colour[i] = kernel.svo_forward_texel(gbuffer_at(g + kGBufferVec4s * i), back[i], i, 0, t.params.sampling.x,
-                                           glm::vec4(0));
+      colour[i] =
+          kernel.svo_forward_texel(gbuffer_at(g + kGBufferVec4s * i), back[i], i, 0, t.params.sampling.x, glm::vec4(0));
   });
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }

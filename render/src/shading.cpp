@@ -1,11 +1,10 @@
 #include "svo/render/shading.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -139,7 +138,7 @@ uint32_t append_distribution(const std::vector<float>& f, uint32_t nu, uint32_t 
   for (uint32_t v = 0; v <= nv; ++v) tables.push_back(total > 0 ? float(marginal[v] / total) : float(v) / float(nv));
   tables.back() = 1.0f;
   tables.push_back(float(total / (double(nu) * nv)));  // the mean of f
-  tables.push_back(0.0f);                               // padding (svo_dist2d_floats)
+  tables.push_back(0.0f);                              // padding (svo_dist2d_floats)
   return offset;
 }
 
@@ -160,11 +159,16 @@ uint32_t append_environment_distribution(const Environment& env, std::vector<flo
 
 const char* brdf_name(BrdfKind kind) {
   switch (kind) {
-    case BrdfKind::Lambert: return "lambert";
-    case BrdfKind::Beckmann: return "beckmann";
-    case BrdfKind::Ggx: return "ggx";
-    case BrdfKind::Phong: return "phong";
-    case BrdfKind::Merl: return "merl";
+    case BrdfKind::Lambert:
+      return "lambert";
+    case BrdfKind::Beckmann:
+      return "beckmann";
+    case BrdfKind::Ggx:
+      return "ggx";
+    case BrdfKind::Phong:
+      return "phong";
+    case BrdfKind::Merl:
+      return "merl";
   }
   return "?";
 }
@@ -211,7 +215,8 @@ glm::vec3 colour(const json& j, const std::string& key, float hi, const KeyError
   for (int i = 0; i < 3; ++i) {
     if (!v[i].is_number()) throw err(key, "not [r, g, b] of numbers");
     const double d = v[i].get<double>();
-    if (!std::isfinite(d) || d < 0 || d > hi) throw err(key, "component " + std::to_string(d) + " outside [0, " + std::to_string(hi) + "]");
+    if (!std::isfinite(d) || d < 0 || d > hi)
+      throw err(key, "component " + std::to_string(d) + " outside [0, " + std::to_string(hi) + "]");
     c[i] = float(d);
   }
   return c;
@@ -230,7 +235,7 @@ Material parse_material(const std::string& text, const fs::path& base, const std
     throw std::runtime_error("material: " + where + ": not JSON: " + what);
   }
   if (!j.is_object()) throw std::runtime_error("material: " + where + ": not a JSON object");
-  static const std::vector<std::string> keys = {"name",     "brdf", "colour", "color", "diffuse",
+  static const std::vector<std::string> keys = {"name",      "brdf", "colour", "color",    "diffuse",
                                                 "roughness", "f0",   "ior",    "exponent", "file"};
   for (const auto& [key, value] : j.items()) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) {

@@ -54,7 +54,6 @@ class ForwardOnBothHosts : public ::testing::Test {
 
 octree::Octree* ForwardOnBothHosts::tree_ = nullptr;
 
-
 TEST_F(ForwardOnBothHosts, AWhiteFurnaceIsOneOnEveryPixel) {
   Material white;
   white.kind = BrdfKind::Lambert;

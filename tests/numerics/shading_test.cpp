@@ -2,6 +2,8 @@
 // environment map's distribution (pdf integrates to 1, equals what the
 // sampler reports, > 0 wherever radiance is, never NaN), the loaders' one-line
 // errors, and each analytic BRDF's reciprocity and energy.
+#include "svo/render/shading.h"
+
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -14,7 +16,6 @@
 #include "render/test_lighting.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
-#include "svo/render/shading.h"
 
 namespace svo::math {
 struct ShadingKernel : render::NativeShadingReader {
@@ -29,7 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 using svo::math::ShadingKernel;
 using test::sky;
-
 
 struct Lit {
   ShadingTables t;
@@ -195,7 +195,8 @@ std::string material_error(const std::string& json) {
 
 TEST(MaterialJson, ValidMaterialsParseAndBadKeysAreNamed) {
   const Material g = parse_material(R"({"name": "gold", "brdf": "ggx", "roughness": 0.3, "f0": [1, 0.8, 0.3],
-                                        "diffuse": [0.1, 0.1, 0.1]})", ".");
+                                        "diffuse": [0.1, 0.1, 0.1]})",
+                                    ".");
   EXPECT_EQ(g.kind, BrdfKind::Ggx);
   EXPECT_FLOAT_EQ(g.f0.g, 0.8f);
   const Material d = parse_material(R"({"brdf": "beckmann", "ior": 1.5})", ".");
@@ -279,8 +280,10 @@ TEST(AnalyticBrdfs, AreReciprocal) {
       const auto s = to_shader(m, aniso);
       for (int i = 0; i < 100; ++i) {
         const glm::vec3 v = hemisphere(u01(rng), u01(rng)), l = hemisphere(u01(rng), u01(rng));
-        const glm::vec3 a = k.svo_material_brdf(s, glm::vec3(0.7f), v, l), b = k.svo_material_brdf(s, glm::vec3(0.7f), l, v);
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-4f * std::max(1.0f, std::abs(a[c]))) << brdf_name(m.kind);
+        const glm::vec3 a = k.svo_material_brdf(s, glm::vec3(0.7f), v, l),
+                        b = k.svo_material_brdf(s, glm::vec3(0.7f), l, v);
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(a[c], b[c], 1e-4f * std::max(1.0f, std::abs(a[c]))) << brdf_name(m.kind);
       }
     }
   }
@@ -351,8 +354,8 @@ TEST(AnalyticBrdfs, SamplersFollowTheirPdfs) {
             return glm::dvec3(glm::vec3(d));
           },
           [&](glm::dvec3 d) { return double(k.svo_material_pdf(s, glm::vec3(1), v, glm::vec3(d))); }, options);
-      const std::string what = std::string(brdf_name(c.kind)) + " roughness " + std::to_string(c.roughness) +
-                               " view " + std::to_string(deg) + ": " + r.summary();
+      const std::string what = std::string(brdf_name(c.kind)) + " roughness " + std::to_string(c.roughness) + " view " +
+                               std::to_string(deg) + ": " + r.summary();
       EXPECT_TRUE(r.passed(alpha)) << what;
       // Directions reflected below the plane are no sample: the pdf's
       // integral is the share of samples returned.

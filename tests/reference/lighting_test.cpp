@@ -10,10 +10,10 @@
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
+#include "svo/render/camera.h"
 #include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 #include "svo/render/shading.h"
-#include "svo/render/camera.h"
 #include "svo/voxelizer/mesh.h"
 #include "temp_dir.h"
 #include "test_lighting.h"
@@ -56,7 +56,6 @@ TEST(ReferenceLighting, AWhiteFurnaceIsOneOnEveryPixel) {
   EXPECT_LT(worst, 0.01);
 }
 
-
 // The forward pass on the octree of `source` (at `resolution`^3) against the
 // reference on the exact `geometry`, seen by `camera` at 64x48 pixels, 1024
 // samples per pixel each: relMSE below `bound`, for a glossy and a diffuse
@@ -65,8 +64,8 @@ void expect_converges(const std::string& name, voxelizer::SurfaceSource& source,
                       uint32_t resolution, std::optional<render::Camera> camera, double bound) {
   const octree::Octree tree = test::voxelize(source, resolution);
   auto env = std::make_shared<const render::Environment>(test::sky(64, 32, false));
-  for (const char* json : {R"({"brdf": "ggx", "roughness": 0.25, "f0": [0.9, 0.6, 0.3], "diffuse": 0.3})",
-                           R"({"brdf": "lambert"})"}) {
+  for (const char* json :
+       {R"({"brdf": "ggx", "roughness": 0.25, "f0": [0.9, 0.6, 0.3], "diffuse": 0.3})", R"({"brdf": "lambert"})"}) {
     auto material = std::make_shared<const render::Material>(render::parse_material(json, "."));
     render::RenderSettings s = view(env, material, 1024);
     s.width = 64;

@@ -19,7 +19,7 @@ inline render::Environment sky(uint32_t w = 64, uint32_t h = 32, bool black_rows
     for (uint32_t x = 0; x < w; ++x) {
       glm::vec3 c = y < h / 2 ? glm::vec3(0.3f, 0.5f, 0.9f) : glm::vec3(0.1f, 0.08f, 0.05f);
       if (black_rows && y >= h / 2 && y < h / 2 + 2) c = glm::vec3(0);  // empty rows
-      if (black_rows && (y == 0 || y == h - 1)) c = glm::vec3(0);        // black poles
+      if (black_rows && (y == 0 || y == h - 1)) c = glm::vec3(0);       // black poles
       if (x >= w / 4 && x < w / 4 + 3 && y >= h / 5 && y < h / 5 + 2) c = glm::vec3(40.0f, 36.0f, 30.0f);
       for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * w + x) * 3 + k] = c[k];
     }

@@ -59,10 +59,10 @@ const char* brdf_name(BrdfKind kind);  // "lambert", ...
 struct Material {
   std::string name = "default";
   BrdfKind kind = BrdfKind::Beckmann;
-  glm::vec3 diffuse{1.0f};  // "diffuse" (or "colour" for lambert): diffuse albedo, times abar
-  glm::vec3 f0{0.04f};      // "f0" [r, g, b], or from "ior" n: ((n - 1) / (n + 1))^2
-  float roughness = 0.2f;   // "roughness": alpha of Beckmann (alpha^2 = 2 sigma^2) and GGX, in (0, 4]
-  float exponent = 100.0f;  // "exponent": the Phong NDF's, in [0, 1e6]
+  glm::vec3 diffuse{1.0f};               // "diffuse" (or "colour" for lambert): diffuse albedo, times abar
+  glm::vec3 f0{0.04f};                   // "f0" [r, g, b], or from "ior" n: ((n - 1) / (n + 1))^2
+  float roughness = 0.2f;                // "roughness": alpha of Beckmann (alpha^2 = 2 sigma^2) and GGX, in (0, 4]
+  float exponent = 100.0f;               // "exponent": the Phong NDF's, in [0, 1e6]
   std::filesystem::path file;            // "file": a MERL binary, relative to the JSON's folder
   std::shared_ptr<const MerlBrdf> merl;  // loaded from `file`
 };
@@ -122,8 +122,7 @@ struct ShadingTables {
 
 // `default_material` is used when options.material is null; light_shadows
 // sets SVO_SHADE_LIGHT_SHADOWS.
-ShadingTables build_shading_tables(const ShadingOptions& options, const Material& default_material,
-                                   bool light_shadows);
+ShadingTables build_shading_tables(const ShadingOptions& options, const Material& default_material, bool light_shadows);
 
 // The environment's texels as a piecewise-constant distribution of their
 // luminance times sin(theta), appended to `tables`; returns its offset.
