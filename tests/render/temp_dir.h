@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -35,6 +36,19 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The Stanford bunny of libcgal-demo (scripts/setup.sh installs it),
+// extracted into `dir`: the path of data/meshes/bunny00.off.
+// @throw std::runtime_error when the archive is missing or tar fails.
+inline std::string extract_bunny(const TempDir& dir) {
+  const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!std::filesystem::exists(archive)) {
+    throw std::runtime_error(archive + " missing: scripts/setup.sh installs libcgal-demo");
+  }
+  const std::string command = "tar xzf " + archive + " -C " + dir.path().string() + " data/meshes/bunny00.off";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error(command + " failed");
+  return (dir.path() / "data/meshes/bunny00.off").string();
+}
 
 // While alive, files this process writes may not grow beyond `bytes`: a
 // write past it fails with EFBIG (SIGXFSZ ignored) instead of killing the
