@@ -145,7 +145,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   add_light_options(*cmd, a->view);
   cmd->add_option("--pass", a->passes,
                   "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
-                  "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr)")
+                  "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr), "
+                  "forward (image-based lighting of the G-buffer, as --shading forward)")
       ->group("Passes");
 
   auto* device = cmd->add_option("--device", a->device, kDeviceHelp)->group("Device");

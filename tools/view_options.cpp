@@ -79,10 +79,12 @@ void add_lighting_options(CLI::App& cmd, LightingOptions& o) {
   cmd.add_option("--env-scale", o.env_scale, "Multiply the environment's radiance by S")
       ->check(CLI::Range(0.0f, 1.0e6f))
       ->group("Lighting");
-  cmd.add_option("--material", o.material,
-                 "Material JSON: {\"brdf\": \"lambert|beckmann|ggx|phong|merl\", \"diffuse\": [r,g,b], "
-                 "\"roughness\": a, \"f0\": [r,g,b] or \"ior\": n, \"exponent\": e, \"file\": \"x.binary\"}; "
-                 "the diffuse part is tinted by the voxels' colour (default: Beckmann with --specular)")
+  cmd.add_option(
+         "--material", o.material,
+         "Material JSON: {\"brdf\": \"lambert|beckmann|ggx|phong|merl\", \"diffuse\": [r,g,b], "
+         "\"roughness\": a, \"f0\": [r,g,b] or \"ior\": n, \"exponent\": e, \"file\": \"x.binary\"}; "
+         "the diffuse part is tinted by the voxels' colour (default: white diffuse and a Beckmann lobe of the file's "
+         "roughness, f0 0.04; docs/materials.md)")
       ->group("Lighting");
   cmd.add_flag("--env-shadows", o.env_shadows,
                "Environment samples see visibility cones through the octree (off: no visibility, as Bagher et al.)")
