@@ -31,16 +31,6 @@ inline std::string sci(double v) {
   return buf;
 }
 
-inline render::Image as_image(const render::Frame& f) {
-  render::Image im;
-  im.width = int(f.width);
-  im.height = int(f.height);
-  im.channels = {"R", "G", "B", "A"};
-  im.pixels.reserve(f.colour.size() * 4);
-  for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
-  return im;
-}
-
 // Rows of frames side by side, `gap` pixels of dark grey between them,
 // colours scaled by `exposure`, each pixel repeated `zoom` x `zoom` times,
 // alpha 1 (the frames' backgrounds are black). Frames of a row may differ in

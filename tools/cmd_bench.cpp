@@ -37,7 +37,6 @@ namespace svo::tools {
 namespace {
 
 namespace fs = std::filesystem;
-using bench::as_image;
 using bench::fmt;
 using bench::run_gnuplot;
 using bench::sci;
@@ -160,7 +159,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
     rs.progress = [&](double f) { bar.update(view + ": reference", f); };
     render::Frame truth = reference::render_reference(*geometry, rs);
     render::write_colour((dir / (view + "-reference.exr")).string(), truth);
-    const render::Image truth_image = as_image(truth);
+    const render::Image truth_image = render::frame_image(truth);
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       const Method& m = methods[mi];
       bar.update(view + ": " + m.name, double(mi) / double(methods.size()));
@@ -174,7 +173,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
       }
       std::sort(ms.begin(), ms.end());
       render::write_colour((dir / (view + "-" + m.name + ".png")).string(), f);
-      reference::ImageErrors e = reference::compare_images(as_image(f), truth_image, m.name, "reference");
+      reference::ImageErrors e = reference::compare_images(render::frame_image(f), truth_image, m.name, "reference");
       Row row;
       row.view = view;
       row.method = m.name;

@@ -296,8 +296,8 @@ void run_fig11(const FigureArgs& a, float sphere_pixels) {
     keep.push_back(std::move(mip));
     const render::Frame& t = keep[keep.size() - 3];
     const double scale = 0.2;
-    keep.push_back(reference::error_image(bench::as_image(keep[keep.size() - 2]), bench::as_image(t), scale));
-    keep.push_back(reference::error_image(bench::as_image(keep[keep.size() - 2]), bench::as_image(t), scale));
+    keep.push_back(reference::error_image(render::frame_image(keep[keep.size() - 2]), render::frame_image(t), scale));
+    keep.push_back(reference::error_image(render::frame_image(keep[keep.size() - 2]), render::frame_image(t), scale));
     rows.push_back({&keep[keep.size() - 5], &keep[keep.size() - 4], &keep[keep.size() - 3], &keep[keep.size() - 2],
                     &keep[keep.size() - 1]});
   }
@@ -392,7 +392,7 @@ void run_fig12(const FigureArgs& a, float roughness, float specular) {
       float peak = 0;
       for (const auto& c : f.colour) energy += luminance(c), peak = std::max(peak, luminance(c));
       const double rc = relmse_over(f, truth, covered);
-      const double r_all = reference::compare_images(bench::as_image(f), bench::as_image(truth)).relmse;
+      const double r_all = reference::compare_images(render::frame_image(f), render::frame_image(truth)).relmse;
       const double er = truth_energy > 0 ? energy / truth_energy : 0.0, pr = truth_peak > 0 ? peak / truth_peak : 0.0;
       const uint64_t hl = highlight(f);
       rel[name] = rc;
@@ -480,7 +480,7 @@ void run_fig4(const FigureArgs& a, const std::string& scene_name, std::vector<fl
     s.background = glm::vec3(0);
     const std::string label = aperture > 0 ? "aperture " + fmt(aperture, 3) : std::string("pinhole");
     render::Frame truth = reference_frame(setup, s, a.spp, bar, label + ": reference");
-    const render::Image truth_image = bench::as_image(truth);
+    const render::Image truth_image = render::frame_image(truth);
     const std::vector<uint8_t> sil = reference::silhouette_mask(truth_image);
     double truth_coverage = 0;
     for (const auto& c : truth.colour) truth_coverage += c.a;
@@ -491,7 +491,7 @@ void run_fig4(const FigureArgs& a, const std::string& scene_name, std::vector<fl
          {std::pair{"prefiltered", render::Mode::Prefiltered}, std::pair{"alpha", render::Mode::Alpha}}) {
       s.mode = mode;
       render::Frame f = setup.gpu->render(s);
-      reference::ImageErrors e = reference::compare_images(bench::as_image(f), truth_image, name, "reference");
+      reference::ImageErrors e = reference::compare_images(render::frame_image(f), truth_image, name, "reference");
       double bias = 0, coverage = 0;
       uint64_t n = 0;
       for (size_t i = 0; i < f.colour.size(); ++i) {

@@ -44,7 +44,6 @@ namespace svo::tools {
 namespace {
 
 namespace fs = std::filesystem;
-using bench::as_image;
 using bench::fmt;
 using bench::sci;
 
@@ -173,7 +172,9 @@ void run_zoom(const ZoomArgs& a) {
     row.centre = centre_mean(ours);
     row.centre_reference = centre_mean(truth);
     row.colour_shift = shift(row.centre, row.centre_reference);
-    row.relmse = reference::compare_images(as_image(ours), as_image(truth), "prefiltered", "reference").relmse;
+    row.relmse =
+        reference::compare_images(render::frame_image(ours), render::frame_image(truth), "prefiltered", "reference")
+            .relmse;
     rows.push_back(row);
     render::write_colour((dir / "frames" / numbered("prefiltered", f, "png")).string(), ours);
     render::write_colour((dir / "frames" / numbered("reference", f, "exr")).string(), truth);

@@ -219,6 +219,16 @@ int Image::channel(const std::string& name) const {
   return it == channels.end() ? -1 : int(it - channels.begin());
 }
 
+Image frame_image(const Frame& frame) {
+  Image im;
+  im.width = int(frame.width);
+  im.height = int(frame.height);
+  im.channels = {"R", "G", "B", "A"};
+  im.pixels.reserve(frame.colour.size() * 4);
+  for (const auto& c : frame.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
+  return im;
+}
+
 Image read_image(const std::string& path) {
   if (!fs::exists(path)) throw ImageError(path + ": no such file");
   // Checks in front of the format libraries, which trust their headers.

@@ -30,15 +30,6 @@
 namespace svo::reference {
 namespace {
 
-render::Image as_image(const render::Frame& f) {
-  render::Image im;
-  im.width = int(f.width);
-  im.height = int(f.height);
-  im.channels = {"R", "G", "B", "A"};
-  for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
-  return im;
-}
-
 void expect_prefiltered_wins(const std::string& name, voxelizer::SurfaceSource& source, const Geometry& truth_geometry,
                              uint32_t resolution, uint32_t size) {
   voxelizer::VoxelizeOptions vo;
@@ -50,10 +41,10 @@ void expect_prefiltered_wins(const std::string& name, voxelizer::SurfaceSource& 
   ReferenceSettings rs;
   rs.render = s;
   rs.spp = 64;
-  const render::Image truth = as_image(render_reference(truth_geometry, rs));
+  const render::Image truth = render::frame_image(render_reference(truth_geometry, rs));
   auto errors = [&](render::Mode mode) {
     s.mode = mode;
-    return compare_images(as_image(render::render_cpu(tree, s)), truth);
+    return compare_images(render::frame_image(render::render_cpu(tree, s)), truth);
   };
   ImageErrors ours = errors(render::Mode::Prefiltered);
   std::printf("%s far: prefiltered relMSE %.5f, silhouette coverage error %.3f\n", name.c_str(), ours.relmse,
@@ -76,11 +67,13 @@ void expect_prefiltered_wins(const std::string& name, voxelizer::SurfaceSource& 
   s.footprint_spread = 0;
   ImageErrors plain = errors(render::Mode::Prefiltered);
   s = defaults;
-  std::printf("%s far: prefiltered relMSE, the paper's model %.5f, with the footprint's spread %.5f, with curved masks, "
-              "front-facing and elements' normals %.5f, with covered parts from a finer level (ours) %.5f\n",
-              name.c_str(), plain.relmse, spread_only.relmse, before_parts.relmse, ours.relmse);
+  std::printf(
+      "%s far: prefiltered relMSE, the paper's model %.5f, with the footprint's spread %.5f, with curved masks, "
+      "front-facing and elements' normals %.5f, with covered parts from a finer level (ours) %.5f\n",
+      name.c_str(), plain.relmse, spread_only.relmse, before_parts.relmse, ours.relmse);
   EXPECT_LT(spread_only.relmse, 0.95 * plain.relmse) << name << ": the footprint's normal spread";
-  EXPECT_LT(before_parts.relmse, 0.9 * spread_only.relmse) << name << ": curved masks, front-facing and elements' normals";
+  EXPECT_LT(before_parts.relmse, 0.9 * spread_only.relmse)
+      << name << ": curved masks, front-facing and elements' normals";
   EXPECT_LT(ours.relmse, 0.8 * before_parts.relmse) << name << ": covered parts from a finer level";
   for (render::Mode mode : {render::Mode::Mip, render::Mode::Nearest, render::Mode::Alpha}) {
     ImageErrors e = errors(mode);

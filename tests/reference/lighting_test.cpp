@@ -78,15 +78,7 @@ void expect_converges(const std::string& name, voxelizer::SurfaceSource& source,
     rs.render = s;
     rs.spp = 1024;
     const render::Frame truth = render_reference(geometry, rs);
-    auto image = [](const render::Frame& f) {
-      render::Image im;
-      im.width = int(f.width);
-      im.height = int(f.height);
-      im.channels = {"R", "G", "B", "A"};
-      for (const auto& c : f.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
-      return im;
-    };
-    const ImageErrors e = compare_images(image(frame), image(truth));
+    const ImageErrors e = compare_images(render::frame_image(frame), render::frame_image(truth));
     const std::string what = name + " " + render::brdf_name(material->kind);
     std::printf("%s: relMSE %.5f, RMSE %.5f, max %.4f\n", what.c_str(), e.relmse, e.rmse, e.max_error);
     test::save_for_inspection(frame, "lighting_forward_" + name + "_" + render::brdf_name(material->kind));

@@ -91,6 +91,9 @@ struct Image {
 // are refused from their header, before their pixels are allocated.
 // @throw ImageError "<path>: <reason>" (cannot open, not an image, too large, ...).
 Image read_image(const std::string& path);
+
+// A frame's colour as an image of channels R, G, B, A (for compare_images and the like).
+Image frame_image(const Frame& frame);
 inline constexpr double kMaxImageSamples = 268435456.0;  // 2^28: 1 GiB of floats
 
 // The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
