@@ -69,6 +69,13 @@ SVO_FN SvoGBuffer svo_gbuffer_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4
   return g;
 }
 
+// Texel `texel` of a G-buffer held as a vec4 array `buffer` (a kernel's
+// storage buffer): SVO_GBUFFER_VEC4S vec4s from texel * SVO_GBUFFER_VEC4S on.
+#define SVO_GBUFFER_LOAD(buffer, texel)                                                                     \
+  svo_gbuffer_unpack(buffer[SVO_GBUFFER_VEC4S * (texel)], buffer[SVO_GBUFFER_VEC4S * (texel) + 1u],     \
+                     buffer[SVO_GBUFFER_VEC4S * (texel) + 2u], buffer[SVO_GBUFFER_VEC4S * (texel) + 3u], \
+                     buffer[SVO_GBUFFER_VEC4S * (texel) + 4u], buffer[SVO_GBUFFER_VEC4S * (texel) + 5u])
+
 // a + w b, field by field (coverage-weighted sums over elements and rays).
 SVO_FN SvoGBuffer svo_gbuffer_madd(SvoGBuffer a, SvoGBuffer b, float w) {
   SvoGBuffer r;

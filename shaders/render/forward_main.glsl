@@ -19,8 +19,6 @@ float svo_table(uint i) { return tables[i]; }
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= params.image.x * params.image.y) return;
-  uint k = SVO_GBUFFER_VEC4S * i;
-  SvoGBuffer g = svo_gbuffer_unpack(gbuffer_in[k], gbuffer_in[k + 1u], gbuffer_in[k + 2u], gbuffer_in[k + 3u],
-                                    gbuffer_in[k + 4u], gbuffer_in[k + 5u]);
+  SvoGBuffer g = SVO_GBUFFER_LOAD(gbuffer_in, i);
   colour_out[i] = svo_forward_texel(g, background_in[i], i, push.first, push.count, colour_out[i]);
 }

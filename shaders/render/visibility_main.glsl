@@ -12,8 +12,6 @@ layout(std430, set = 0, binding = 1) writeonly restrict buffer VisibilityOut { v
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= params.image.x * params.image.y) return;
-  uint k = SVO_GBUFFER_VEC4S * i;
-  SvoGBuffer g = svo_gbuffer_unpack(gbuffer_in[k], gbuffer_in[k + 1u], gbuffer_in[k + 2u], gbuffer_in[k + 3u],
-                                    gbuffer_in[k + 4u], gbuffer_in[k + 5u]);
+  SvoGBuffer g = SVO_GBUFFER_LOAD(gbuffer_in, i);
   visibility_out[i] = svo_visibility_texel(g);
 }
