@@ -96,6 +96,7 @@ void print_json(const octree::SvoView& svo, const std::vector<Level>& levels) {
       {"bytes_per_voxel", nullptr},
       {"channels", channels},
       {"per_level", per_level},
+      {"materials", shape.materials},
       {"detail", nullptr}};
   if (const octree::Detail& d = shape.detail; d.octaves > 0) {
     out["detail"] = {{"octaves", d.octaves},
@@ -135,6 +136,10 @@ void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
   } else {
     row("detail") << "none\n";
   }
+  row("materials") << (shape.materials.empty() ? std::string("none (the renderer's --material or built-in one)")
+                                               : std::to_string(shape.materials.size()))
+                   << "\n";
+  for (const std::string& m : shape.materials) std::cout << "  " << m << "\n";
   row("channels") << shape.channels.size() << "\n";
   for (size_t c = 0; c < shape.channels.size(); ++c) {
     const auto& info = shape.channels[c];

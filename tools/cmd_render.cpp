@@ -36,7 +36,7 @@ struct RenderArgs {
   ViewOptions view;
   std::string mode = "prefiltered";
   uint32_t spp = 0;     // 0: the default of the mode (1 ray) or of forward shading (16 samples)
-  std::string shading;  // tracer or forward; empty: forward with --env or --material, else tracer
+  std::string shading;  // tracer or forward; empty: forward with --env, --material or the octree's materials, else tracer
   LightingOptions lighting;
   uint32_t seed = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
@@ -108,7 +108,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--shading", a->shading,
                   "tracer: each cone element shaded by the lights as it is marched (paper Eq. 13); forward: the "
                   "G-buffer shaded afterwards with --env, --material and --spp samples per pixel (multiple "
-                  "importance sampling). Default: forward with --env or --material, else tracer")
+                  "importance sampling). Default: forward with --env or --material or an octree that carries materials (svo voxelize --material, "
+                  "--scene material-spheres), else tracer")
       ->check(CLI::IsMember({"tracer", "forward"}))
       ->group("Shading");
   cmd->add_option("--seed", a->seed, "Seed of the forward pass's sample sequence")->group("Shading");
@@ -174,7 +175,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
     if (!mode)
       throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
-    const bool forward = a->shading.empty() ? uses_lighting(a->lighting) : a->shading == "forward";
+    bool forward = a->shading.empty() ? uses_lighting(a->lighting) : a->shading == "forward";
     if (forward && *mode != render::Mode::Prefiltered) {
       throw std::invalid_argument("--shading forward shades the prefiltered G-buffer: it needs --mode prefiltered");
     }
@@ -231,6 +232,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto start = std::chrono::steady_clock::now();
     octree::Octree tree = octree::load_svo(a->input);
     const double load_ms = elapsed_ms(start);
+    // A scene with materials of its own shades them: forward by default.
+    if (a->shading.empty() && !tree.materials.empty() && *mode == render::Mode::Prefiltered && a->spp <= 1) {
+      forward = true;
+    }
     const std::string view_name = tools::view_name(a->view);
     const glm::vec3 centre = tree.origin + glm::vec3(0.5f * tree.size);
     render::RenderSettings settings;

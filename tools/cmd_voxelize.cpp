@@ -13,6 +13,7 @@
 #include "progress.h"
 #include "source_options.h"
 #include "svo/octree/svo_file.h"
+#include "svo/render/shading.h"
 #include "svo/voxelizer/build.h"
 
 namespace svo::tools {
@@ -22,6 +23,7 @@ namespace {
 struct VoxelizeArgs {
   SourceOptions source;
   std::string output;
+  std::string material;  // a material JSON the octree carries
   uint32_t resolution = 256;
   uint32_t brick = 8;
   double max_memory_mb = 0;
@@ -43,6 +45,12 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
   add_source_options(*cmd, a->source);
   cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed)")
       ->required()
+      ->group("Output");
+  cmd->add_option("--material", a->material,
+                  "A material (JSON, docs/materials.md) the octree carries: `svo render` and `svo view` shade "
+                  "with it when no --material is given (a MERL file is recorded by its absolute path). Scenes with "
+                  "materials of their own (--scene material-spheres) carry theirs")
+      ->check(CLI::ExistingFile)
       ->group("Output");
   cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis: a power of two")
       ->default_val(256)
@@ -73,6 +81,16 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
       source = voxelizer::load_mesh(a->source.input, options);
     }
+    std::string material;
+    if (!a->material.empty()) {
+      if (!source->materials().empty()) {
+        throw std::invalid_argument("--material: " + what + " has materials of its own (" +
+                                    std::to_string(source->materials().size()) + ")");
+      }
+      render::Material m = render::load_material(a->material);
+      if (!m.file.empty()) m.file = std::filesystem::absolute(m.file);
+      material = render::material_json(m);
+    }
     // Refuse an output that cannot be written before minutes of work, not after.
     std::filesystem::path out_dir = std::filesystem::absolute(a->output).parent_path();
     if (!std::filesystem::is_directory(out_dir)) {
@@ -95,6 +113,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     options.progress = [&bar](const std::string& stage, double f) { bar.update(stage, f); };
     voxelizer::VoxelizeReport report;
     octree::Octree tree = voxelizer::voxelize(*source, options, &report);
+    if (!material.empty()) tree.materials = {material};
     bar.update("writing", 1.0);
     auto write_start = std::chrono::steady_clock::now();
     octree::write_svo(a->output, tree);
@@ -127,7 +146,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                          {"voxels", tree.voxel_count()},
                          {"bytes", bytes},
                          {"bytes_per_voxel", voxels > 0 ? bytes / voxels : 0.0},
-                         {"channels", channels}};
+                         {"channels", channels},
+                         {"materials", tree.materials.size()}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << what << " -> " << a->output << ": " << tree.depth_count << " levels, " << tree.brick_count

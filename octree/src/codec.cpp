@@ -23,6 +23,8 @@ const char* channel_name(Channel channel) {
       return "colour";
     case Channel::ColourSlope:
       return "colour_slope";
+    case Channel::Material:
+      return "material";
   }
   return "unknown";
 }
@@ -43,6 +45,8 @@ const char* encoding_name(Encoding encoding) {
       return "srgb8";
     case Encoding::Signed8:
       return "s8x3";
+    case Encoding::MaterialShare8:
+      return "material_share8";
   }
   return "unknown";
 }
@@ -63,6 +67,8 @@ uint32_t encoding_bytes(Encoding encoding) {
       return 3;
     case Encoding::Signed8:
       return 3;
+    case Encoding::MaterialShare8:
+      return 2;
   }
   return 0;
 }
@@ -83,6 +89,8 @@ bool encoding_fits(Channel channel, Encoding encoding) {
       return encoding == Encoding::Srgb8;
     case Channel::ColourSlope:
       return encoding == Encoding::Signed8;
+    case Channel::Material:
+      return encoding == Encoding::MaterialShare8;
   }
   return false;
 }
@@ -174,6 +182,10 @@ void encode_pool_voxel(Octree& tree, uint64_t pool_sample, uint32_t depth, const
       case Encoding::Signed8:
         put3(p, svo_encode_s8(v.a_s.x), svo_encode_s8(v.a_s.y), svo_encode_s8(v.a_s.z));
         break;
+      case Encoding::MaterialShare8:
+        p[0] = uint8_t(std::min(v.material, kMaxMaterials - 1));
+        p[1] = uint8_t(std::lround(255.0f * std::clamp(v.material_share, 0.0f, 1.0f)));
+        break;
     }
   }
 }
@@ -215,6 +227,10 @@ Voxel decode_sample(const Octree& tree, std::span<const uint8_t* const> samples,
         break;
       case Encoding::Signed8:
         v.a_s = glm::vec3(svo_decode_s8(p[0]), svo_decode_s8(p[1]), svo_decode_s8(p[2]));
+        break;
+      case Encoding::MaterialShare8:
+        v.material = p[0];
+        v.material_share = float(p[1]) / 255.0f;
         break;
     }
   }

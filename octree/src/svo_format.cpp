@@ -136,10 +136,44 @@ std::string check_detail(const Detail& d, float size) {
   return {};
 }
 
+std::vector<uint8_t> encode_materials(const std::vector<std::string>& materials) {
+  std::vector<uint8_t> out(8);
+  put_u32(out.data(), uint32_t(materials.size()));
+  for (const std::string& m : materials) {
+    size_t at = out.size();
+    out.resize(at + 4 + m.size());
+    put_u32(out.data() + at, uint32_t(m.size()));
+    std::memcpy(out.data() + at + 4, m.data(), m.size());
+  }
+  put_u32(out.data() + 4, uint32_t(out.size()));
+  out.resize(align_up(out.size(), kTableAlign));
+  return out;
+}
+
+std::string check_materials(const std::vector<std::string>& materials) {
+  auto u = [](uint64_t v) { return std::to_string(v); };
+  if (materials.empty() || materials.size() > kMaxMaterials) {
+    return "material count is " + u(materials.size()) + " (must be in [1, " + u(kMaxMaterials) + "])";
+  }
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const std::string& m = materials[i];
+    if (m.empty() || m.size() > kMaxMaterialBytes) {
+      return "material " + u(i) + " has " + u(m.size()) + " bytes (must be in [1, " + u(kMaxMaterialBytes) + "])";
+    }
+    if (m.find('\0') != std::string::npos) return "material " + u(i) + " holds a NUL byte (must be JSON text)";
+  }
+  return {};
+}
+
 Layout plan_layout(const Octree& tree) {
   Layout l;
-  l.version = tree.detail.octaves > 0 ? kVersionDetail : kVersion;
-  l.channel_table = kHeaderBytes + (tree.detail.octaves > 0 ? kDetailBytes : 0);
+  l.version = !tree.materials.empty() ? kVersionMaterials : tree.detail.octaves > 0 ? kVersionDetail : kVersion;
+  l.channel_table = kHeaderBytes + (l.version >= kVersionDetail ? kDetailBytes : 0);
+  if (l.version == kVersionMaterials) {
+    l.materials = l.channel_table;
+    l.material_bytes = encode_materials(tree.materials).size();
+    l.channel_table += l.material_bytes;
+  }
   l.depth_table = align_up(l.channel_table + kChannelEntryBytes * tree.channels.size(), kTableAlign);
   l.node_table = align_up(l.depth_table + 4 * tree.depth_first_node.size(), kDataAlign);
   uint64_t end = l.node_table + kNodeBytes * tree.nodes.size();

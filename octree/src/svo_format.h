@@ -16,9 +16,12 @@ inline constexpr char kMagic[8] = {'S', 'V', 'O', 'C', 'T', 'R', 'E', 'E'};
 // Version 2 (B^3 samples per brick, faces not duplicated) replaced version 1
 // ((B + 1)^3 samples per brick). Version 3 is version 2 plus the detail
 // block; the writer writes version 2 for an octree without detail, so such
-// files keep their bytes. This build reads versions 2 and 3.
+// files keep their bytes. Version 4 is version 3 (its detail block may say
+// "no detail": octaves 0) plus the material block. This build reads
+// versions 2, 3 and 4.
 inline constexpr uint32_t kVersion = 2;
 inline constexpr uint32_t kVersionDetail = 3;
+inline constexpr uint32_t kVersionMaterials = 4;
 inline constexpr uint64_t kHeaderBytes = 128;
 inline constexpr uint64_t kDetailBytes = 64;  // version 3: the detail block at offset 128
 inline constexpr uint32_t kMaxDetailOctaves = 32;
@@ -87,6 +90,9 @@ void encode_detail(const Detail& d, uint8_t* out);
 Detail decode_detail(const uint8_t* in);
 // The rules on a detail block that is present (octaves > 0); "" or what is wrong.
 std::string check_detail(const Detail& d, float size);
+// The material block (svo_file.h): its bytes, and its rules; "" or what is wrong.
+std::vector<uint8_t> encode_materials(const std::vector<std::string>& materials);
+std::string check_materials(const std::vector<std::string>& materials);
 
 // XXH64 with seed 0.
 uint64_t checksum(std::span<const uint8_t> bytes);
@@ -98,7 +104,8 @@ inline uint64_t align_up(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
 
 // Where the writer puts each section of `tree` (validated).
 struct Layout {
-  uint32_t version = kVersion;  // kVersionDetail when the octree has detail
+  uint32_t version = kVersion;  // kVersionDetail when the octree has detail, kVersionMaterials with materials
+  uint64_t materials = 0, material_bytes = 0;  // version 4: the material block
   uint64_t channel_table = 0, depth_table = 0, node_table = 0, file_bytes = 0;
   std::vector<uint64_t> data_offset, data_bytes;
 };

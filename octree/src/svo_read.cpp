@@ -67,9 +67,9 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     fail("not an .svo file (magic is '" + printable(p, 8) + "', expected 'SVOCTREE')");
   }
   Header h = decode_header(p);
-  if (h.version != kVersion && h.version != kVersionDetail) {
-    fail("unsupported version " + u(h.version) + " (this build reads versions " + u(kVersion) + " and " +
-         u(kVersionDetail) + ")");
+  if (h.version < kVersion || h.version > kVersionMaterials) {
+    fail("unsupported version " + u(h.version) + " (this build reads versions " + u(kVersion) + " to " +
+         u(kVersionMaterials) + ")");
   }
   if (h.header_bytes != kHeaderBytes) {
     fail("header_bytes is " + u(h.header_bytes) + " (version " + u(h.version) + " has 128)");
@@ -101,12 +101,38 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
   shape_.shell_count = h.shell_count;
 
   uint64_t end = kHeaderBytes;
-  if (h.version == kVersionDetail) {
+  if (h.version >= kVersionDetail) {
     if (n < kHeaderBytes + kDetailBytes) {
       fail("truncated: detail block needs 64 bytes at offset 128, file has " + u(n));
     }
     shape_.detail = decode_detail(p + kHeaderBytes);
     end += kDetailBytes;
+  }
+  if (h.version == kVersionMaterials) {
+    // u32 count, u32 bytes (of the block before its padding), then per
+    // material u32 length and the JSON text; padded with zeros to 8 bytes.
+    if (n < end + 8) fail("truncated: material block needs 8 bytes at offset " + u(end) + ", file has " + u(n));
+    const uint32_t count = get_u32(p + end), bytes = get_u32(p + end + 4);
+    if (count < 1 || count > kMaxMaterials) {
+      fail("material count is " + u(count) + " (must be in [1, " + u(kMaxMaterials) + "])");
+    }
+    if (bytes < 8 + 4 * uint64_t(count) || bytes > n - end) {
+      fail("material block of " + u(bytes) + " bytes at offset " + u(end) + " does not fit " + u(count) +
+           " materials in a file of " + u(n) + " bytes");
+    }
+    uint64_t at = end + 8;
+    for (uint32_t i = 0; i < count; ++i) {
+      if (at + 4 > end + bytes) fail("material block: material " + u(i) + " starts past the block's end");
+      const uint32_t length = get_u32(p + at);
+      if (length > end + bytes - at - 4) {
+        fail("material block: material " + u(i) + " has " + u(length) + " bytes, past the block's end");
+      }
+      shape_.materials.emplace_back(reinterpret_cast<const char*>(p + at + 4), length);
+      at += 4 + length;
+    }
+    if (at != end + bytes) fail("material block: " + u(end + bytes - at) + " bytes after the last material");
+    if (std::string why = check_materials(shape_.materials); !why.empty()) fail(why);
+    end = align_up(end + bytes, kTableAlign);
   }
   end = check_section(name_, n, "channel table", h.channel_table_offset, h.channel_count, kChannelEntryBytes, end,
                       kTableAlign);
@@ -116,8 +142,12 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     shape_.channels.push_back({Channel(entries.back().channel), Encoding(entries.back().encoding)});
   }
   if (std::string why = check_shape(shape_); !why.empty()) fail(why);
-  if (h.version == kVersionDetail) {
+  if (h.version == kVersionDetail || (h.version == kVersionMaterials && shape_.detail.octaves != 0)) {
     if (std::string why = check_detail(shape_.detail, shape_.size); !why.empty()) fail(why);
+  }
+  if (const int m = shape_.channel_index(Channel::Material); m >= 0 && shape_.materials.size() < 2) {
+    fail(channel_label(size_t(m), shape_.channels[size_t(m)]) + ": a material channel needs two or more materials, the file has " +
+         u(shape_.materials.size()));
   }
 
   end = check_section(name_, n, "depth table", h.depth_table_offset, uint64_t(h.depth_count) + 1, 4, end, kTableAlign);

@@ -134,6 +134,12 @@ void validate_octree(const Octree& t) {
   if (t.detail.octaves > 0) {
     if (std::string why = check_detail(t.detail, t.size); !why.empty()) fail(why);
   }
+  if (!t.materials.empty()) {
+    if (std::string why = check_materials(t.materials); !why.empty()) fail(why);
+  }
+  if (t.channel_index(Channel::Material) >= 0 && t.materials.size() < 2) {
+    fail("a material channel needs two or more materials, the octree has " + std::to_string(t.materials.size()));
+  }
   if (t.depth_first_node.size() != size_t(t.depth_count) + 1) {
     fail("depth_first_node has " + std::to_string(t.depth_first_node.size()) +
          " entries, depth_count + 1 = " + std::to_string(t.depth_count + 1));
@@ -167,10 +173,14 @@ void write_svo(const std::string& path, const Octree& tree) {
   Stream out(file, path);
   // Skip the header for now: it carries the payload checksum, so it is written last.
   if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.name(), errno);
-  if (layout.version == kVersionDetail) {
+  if (layout.version >= kVersionDetail) {
     uint8_t detail[kDetailBytes];
     encode_detail(tree.detail, detail);
     out.put(detail, sizeof detail);
+  }
+  if (layout.version == kVersionMaterials) {
+    std::vector<uint8_t> block = encode_materials(tree.materials);
+    out.put(block.data(), block.size());
   }
 
   for (size_t c = 0; c < tree.channels.size(); ++c) {

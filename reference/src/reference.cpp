@@ -212,7 +212,7 @@ glm::dvec3 shade(const Geometry& geometry, const Setup& c, const SurfaceHit& hit
     if (!(ndl > 0.0f)) continue;
     if (c.shadows && !light_visible(geometry, hit, lamp, shadow[i])) continue;
     const glm::vec3 ll(glm::dot(lf, f.t), glm::dot(lf, f.b), ndl);
-    const glm::vec3 rho = lit ? lit->svo_material_brdf(svo_material_of(lit->shade), a, vl, ll)
+    const glm::vec3 rho = lit ? lit->svo_material_brdf(lit->svo_scene_material(hit.material), a, vl, ll)
                               : a / SVO_PI + glm::vec3(c.specular * svo_specular_brdf(vl, ll, c.total_variance));
     radiance += e * glm::dvec3(rho) * double(ndl);
   }
@@ -227,7 +227,7 @@ double power_heuristic(double a, double b) { return a * a + b * b > 0 ? a * a / 
 glm::dvec3 shade_environment(const Geometry& geometry, svo::math::ReferenceLighting& lit, bool shadows,
                              const SurfaceHit& hit, glm::dvec3 view, const double* u) {
   using namespace svo::math;
-  const SvoMaterial mat = svo_material_of(lit.shade);
+  const SvoMaterial mat = lit.svo_scene_material(hit.material);
   const glm::vec3 n = hit.normal;
   const SvoFrame f = svo_tangent_frame(n);
   const glm::vec3 vw(view);
@@ -262,8 +262,12 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
   const auto start = std::chrono::steady_clock::now();
   const Setup c = make_setup(geometry, settings);
   // An environment or a material: shaded with the forward pass's lighting code.
-  const render::ShadingOptions& so = settings.render.shading;
-  const bool lighting = so.environment || so.material;
+  render::ShadingOptions so = settings.render.shading;
+  // Without --material, the source's own materials, as the octree carries them.
+  if (!so.material && so.scene_materials.empty()) {
+    so.scene_materials = render::parse_scene_materials(geometry.materials(), "the scene");
+  }
+  const bool lighting = so.environment || so.material || !so.scene_materials.empty();
   const render::ShadingTables tables =
       lighting ? render::build_shading_tables(so, render::builtin_material(c.specular, geometry.sigma_rho2()), false)
                : render::ShadingTables{};

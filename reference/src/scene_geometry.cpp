@@ -46,6 +46,7 @@ class SceneGeometry : public Geometry {
     hit.normal = scene_.normal(p);
     if (glm::dot(glm::dvec3(hit.normal), d) > 0) hit.normal = -hit.normal;  // grazing hits of a noisy gradient
     hit.colour = scene_.colour(p);
+    hit.material = scene_.material(p);
     return hit;
   }
 
@@ -55,6 +56,7 @@ class SceneGeometry : public Geometry {
 
   float sigma_rho2() const override { return scene_.sigma_rho2(); }
   voxelizer::Box bounds() const override { return scene_.bounds(); }
+  std::vector<std::string> materials() const override { return scene_.materials(); }
   double shadow_offset() const override { return 20 * epsilon_; }
 
  private:

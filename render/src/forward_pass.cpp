@@ -28,6 +28,8 @@ struct ForwardPass::Cache {
   const Environment* environment = nullptr;
   const Material* material = nullptr;
   Material default_material;
+  const octree::Octree* scene = nullptr;  // whose materials scene_materials holds
+  std::vector<std::shared_ptr<const Material>> scene_materials;
   bool valid = false;
   ShadingTables tables;
   std::unique_ptr<vk::ComputeKernel> kernel;
@@ -40,13 +42,20 @@ ForwardPass::~ForwardPass() = default;
 double ForwardPass::run(PassContext& ctx) {
   const OctreeAccess& octree = ctx.octree;
   const TraceParams params = octree.params(ctx.settings);
-  const ShadingOptions& options = ctx.settings.shading;
-  // Without a material: the built-in one, the Beckmann lobe of --specular
+  ShadingOptions options = ctx.settings.shading;
+  Cache& c = *cache_;
+  // Without --material: the octree's own materials, parsed once per octree.
+  if (c.scene != &octree.tree()) {
+    c.scene_materials = parse_scene_materials(octree.tree().materials, "the octree");
+    c.scene = &octree.tree();
+    c.valid = false;
+  }
+  if (options.scene_materials.empty()) options.scene_materials = c.scene_materials;
+  // Nothing at all: the built-in one, the Beckmann lobe of --specular
   // with the file's (or --roughness's) micro-BRDF slope variance.
   const Material fallback = builtin_material(ctx.settings.specular, params.material.x);
-  Cache& c = *cache_;
   const bool same = c.valid && c.environment == options.environment.get() && c.material == options.material.get() &&
-                    (options.material ||
+                    (options.material || !c.scene_materials.empty() ||
                      (c.default_material.f0 == fallback.f0 && c.default_material.roughness == fallback.roughness));
   if (!same) {
     c.tables = build_shading_tables(options, fallback, ctx.settings.shadows);
@@ -62,7 +71,7 @@ double ForwardPass::run(PassContext& ctx) {
   t.params.sampling = glm::uvec4(std::max(options.spp, 1u), options.seed,
                                  (options.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
                                      (ctx.settings.shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
-                                 0);
+                                 t.params.sampling.w);
   ImageMemory& gbuffer = ctx.images.read(gbuffer_image());
   ImageMemory& background = ctx.images.read(background_image());
   ImageMemory& out = ctx.images.write(colour_image());

@@ -128,7 +128,8 @@ void gbuffer_channels(const GBufferTexel& t, float* out) {
   const float values[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,    t.normal.y,
                           t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
                           t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,      t.a_s.x,
-                          t.a_s.y,       t.a_s.z,      t.coverage};
+                          t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2),
+                          t.material_mix};
   static_assert(std::size(values) == kGBufferChannels.size());
   std::copy(std::begin(values), std::end(values), out);
 }

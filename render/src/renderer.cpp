@@ -21,7 +21,8 @@ static_assert(kGBufferVec4s == svo::math::SVO_GBUFFER_VEC4S);
 
 GBufferTexel unpack_gbuffer(const glm::vec4* t) {
   const auto g = gbuffer_at(t);
-  return {g.depth, g.position, g.normal, g.coverage, g.tangent, g.sigma_rho2, g.slope_cov, g.abar, g.a_s};
+  return {g.depth,     g.position, g.normal, g.coverage,  g.tangent,   g.sigma_rho2,
+          g.slope_cov, g.abar,     g.a_s,    g.material, g.material2, g.material_mix};
 }
 
 const char* host_name(Host host) { return host == Host::Native ? "native" : "vulkan"; }

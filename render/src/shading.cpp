@@ -1,6 +1,7 @@
 #include "svo/render/shading.h"
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -360,6 +361,16 @@ glm::vec3 MaterialEvaluator::albedo(glm::vec3 tint, glm::vec3 wo, uint32_t sampl
   return glm::vec3(sum / double(std::max(samples, 1u)));
 }
 
+std::vector<std::shared_ptr<const Material>> parse_scene_materials(const std::vector<std::string>& texts,
+                                                                   const std::string& source) {
+  std::vector<std::shared_ptr<const Material>> out;
+  for (size_t i = 0; i < texts.size(); ++i) {
+    out.push_back(std::make_shared<const Material>(
+        parse_material(texts[i], std::filesystem::current_path(), "material " + std::to_string(i) + " of " + source)));
+  }
+  return out;
+}
+
 ShadingTables build_shading_tables(const ShadingOptions& o, const Material& default_material, bool light_shadows) {
   ShadingTables t;
   auto& p = t.params;
@@ -370,20 +381,36 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     p.env.w = append_environment_distribution(env, t.floats);
     p.env_xform = glm::vec4(glm::radians(o.env_rotate_deg), o.env_scale, 0, 0);
   }
-  const Material& m = o.material ? *o.material : default_material;
-  p.material = glm::uvec4(uint32_t(m.kind), 0, 0, 0);
-  if (m.kind == BrdfKind::Merl) {
+  // A measured BRDF's tables, once per material.
+  auto merl_offsets = [&](const Material& m) {
+    if (m.kind != BrdfKind::Merl) return std::array<uint32_t, 2>{0, 0};
     if (!m.merl) throw std::invalid_argument("material '" + m.name + "': a MERL BRDF without its data");
-    const auto offsets = append_merl_tables(*m.merl, t.floats);
-    p.material.y = offsets[0];
-    p.material.z = offsets[1];
-  }
+    return append_merl_tables(*m.merl, t.floats);
+  };
+  const bool scene = !o.material && !o.scene_materials.empty();
+  const Material& m = o.material ? *o.material : scene ? *o.scene_materials[0] : default_material;
+  const auto offsets = merl_offsets(m);
+  p.material = glm::uvec4(uint32_t(m.kind), offsets[0], offsets[1], 0);
   p.diffuse = glm::vec4(m.diffuse, m.roughness);
   p.specular = glm::vec4(m.f0, m.exponent);
   p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed,
                           (o.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
                               (light_shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
                           0);
+  if (scene && o.scene_materials.size() > 1) {
+    // The scene's table (svo_scene_material): records after every MERL table.
+    std::vector<std::array<uint32_t, 2>> merl(o.scene_materials.size());
+    for (size_t i = 0; i < merl.size(); ++i) merl[i] = i == 0 ? offsets : merl_offsets(*o.scene_materials[i]);
+    p.material.w = uint32_t(o.scene_materials.size());
+    p.sampling.w = uint32_t(t.floats.size());
+    for (size_t i = 0; i < merl.size(); ++i) {
+      const Material& s = *o.scene_materials[i];
+      const float record[svo::math::SVO_MATERIAL_FLOATS] = {
+          std::bit_cast<float>(uint32_t(s.kind)), std::bit_cast<float>(merl[i][0]), std::bit_cast<float>(merl[i][1]),
+          s.exponent, s.diffuse.x, s.diffuse.y, s.diffuse.z, s.roughness, s.f0.x, s.f0.y, s.f0.z, 0.0f};
+      t.floats.insert(t.floats.end(), std::begin(record), std::end(record));
+    }
+  }
   if (t.floats.empty()) t.floats.push_back(0.0f);
   return t;
 }

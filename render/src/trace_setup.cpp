@@ -90,9 +90,13 @@ PackedOctree pack_octree(const octree::Octree& tree) {
       case Channel::ColourSlope:
         p.offsets_b.z = bytes;
         break;
+      case Channel::Material:
+        p.offsets_b.w = bytes;
+        break;
     }
     bytes += (samples * pool_stride(info.encoding) + 3u) & ~3u;
   }
+  p.encodings.z = std::max<uint32_t>(1, uint32_t(tree.materials.size()));
   p.brick_bytes = bytes;
   p.brick_count = tree.brick_count;
   p.bricks.assign(size_t(p.brick_count) * p.brick_bytes + 4, 0);
@@ -126,6 +130,9 @@ PackedOctree pack_octree(const octree::Octree& tree) {
         switch (size) {
           case 1:
             copy(std::integral_constant<uint32_t, 1>());
+            break;
+          case 2:
+            copy(std::integral_constant<uint32_t, 2>());
             break;
           case 3:
             copy(std::integral_constant<uint32_t, 3>());

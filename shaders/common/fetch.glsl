@@ -345,6 +345,63 @@ SVO_FN SvoCell svo_lookup(vec3 p, uint depth) {
   return c;
 }
 
+// The materials a surface point shows to a footprint of radius `radius`:
+// at the level the prefiltered shading reads for that footprint (the
+// finest stored brick holding p at or above it), the eight lattice corners
+// around p vote with their trilinear weight times their dominant
+// material's share; the two heaviest materials and the first's share of
+// both. Material 0 alone where the file has no material channel.
+struct SvoMaterialMix {
+  uint a;
+  uint b;
+  float mix;  // a's share of a and b, in [0, 1]
+};
+SVO_FN SvoMaterialMix svo_material_mix(vec3 p, float radius) {
+  SvoMaterialMix r;
+  r.a = 0u;
+  r.b = 0u;
+  r.mix = 1.0f;
+  if (params.offsets_b.w == SVO_ABSENT) return r;
+  uint last = max(params.encodings.z, 1u) - 1u;
+  uint depth = uint(svo_level_of_voxel(params.shading.x * radius) + 0.5f);
+  SvoCell cell = svo_lookup(p, depth);
+  while (cell.brick == SVO_ABSENT && depth > 0u) {
+    depth -= 1u;
+    cell = svo_lookup(p, depth);
+  }
+  if (cell.brick == SVO_ABSENT) return r;
+  SvoCorners c = svo_corners(cell, p);
+  uint index[8];
+  float weight[8];
+  for (uint k = 0u; k < 8u; ++k) {
+    uint bytes = svo_brick_bytes(cell.brick, params.offsets_b.w + (c.first + svo_corner_offset(k)) * 2u);
+    index[k] = min(bytes & 255u, last);
+    weight[k] = svo_corner_weight(c.f, k) * float((bytes >> 8u) & 255u) / 255.0f;
+  }
+  // Each corner's material with the votes of every corner showing it.
+  float best = -1.0f;
+  float second = 0.0f;
+  for (uint k = 0u; k < 8u; ++k) {
+    float total = 0.0f;
+    for (uint j = 0u; j < 8u; ++j) total += index[j] == index[k] ? weight[j] : 0.0f;
+    if (index[k] == r.a && best >= 0.0f) continue;
+    if (total > best) {
+      if (best >= 0.0f) {
+        r.b = r.a;
+        second = best;
+      }
+      r.a = index[k];
+      best = total;
+    } else if (total > second && index[k] != r.b) {
+      r.b = index[k];
+      second = total;
+    }
+  }
+  r.mix = best + second > 0.0f ? best / (best + second) : 1.0f;
+  if (second <= 0.0f) r.b = r.a;
+  return r;
+}
+
 SVO_FN bool svo_cell_holds(SvoCell c, vec3 p, uint depth) {
   return c.depth == depth && all(greaterThanEqual(p, c.lo)) && all(lessThan(p, c.lo + c.size));
 }

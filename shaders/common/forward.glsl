@@ -2,7 +2,9 @@
 // covered pixel of the G-buffer shaded with a fixed number of samples of the
 // environment and the material, combined by multiple importance sampling
 // (power heuristic, one BRDF sample and one environment sample each), plus
-// the lights; the background is the environment seen through the pixel. Host
+// the lights; the background is the environment seen through the pixel.
+// Each pixel shades with its materials (the G-buffer's two and their mix,
+// svo_scene_material). Host
 // contract: tracer.glsl's (params, the octree, for visibility cones), plus
 // `shade` (SvoShadeParams) and svo_table (distribution.glsl).
 //
@@ -122,14 +124,19 @@ SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float sp
 // G-buffer point towards the eye: their sum over shade.sampling.x samples.
 SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
   SvoShadingPoint p = svo_shading_point(g);
-  SvoMaterial mat = svo_material_of(shade);
+  SvoMaterial first_material = svo_scene_material(g.material);
+  SvoMaterial second_material = svo_scene_material(g.material2);
+  bool mixed = g.material != g.material2 && g.material_mix < 1.0f;
   uint spp = max(shade.sampling.x, 1u);
   uint seed = shade.sampling.y;
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
   bool light_shadows = (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u;
   vec3 sum = vec3(0.0f);
   for (uint i = first; i < min(first + count, spp); ++i) {
-    SvoLobe lobe = svo_sample_lobe(p, mat, svo_sample_2d(pixel, seed, i, 0u));
+    // Where the pixel shows two materials, each sample shades one of them,
+    // drawn by its share: the estimate of their mix.
+    bool second = mixed && svo_sample_1d(pixel, seed, i, 7u) >= g.material_mix;
+    SvoLobe lobe = svo_sample_lobe(p, second ? second_material : first_material, svo_sample_2d(pixel, seed, i, 0u));
     vec3 vs = svo_to_lobe(lobe, p.v);
     for (uint k = 0u; k < params.tree.w; ++k) {
       SvoLightSample light = svo_light_at(k, p.position);

@@ -6,11 +6,15 @@
 //   1: normal xyz (filtered: the mean of unit normals, not renormalised), coverage
 //   2: tangent xyz (unit, perpendicular to the normal), sigma_rho^2 (the micro-BRDF's)
 //   3: slope covariance (xx, yy, xy) in the frame (tangent, normal x tangent): the
-//      voxels' sigma_n^2 with the footprint's normal spread, without sigma_rho^2; w unused
-//   4: abar rgb (mean colour seen from the camera, linear), w unused
-//   5: a_s rgb (colour-height correlation), w unused
+//      voxels' sigma_n^2 with the footprint's normal spread, without sigma_rho^2;
+//      w: the material the pixel shows most (an index into the scene's materials)
+//   4: abar rgb (mean colour seen from the camera, linear), w: the second material
+//   5: a_s rgb (colour-height correlation), w: the first material's share of the
+//      two, in [0, 1] (1 where the scene has one material)
 // Fields are coverage-weighted averages over the cone elements that set the
-// pixel's bits; coverage 0: no surface, every other field 0. The radiance of
+// pixel's bits, except the materials, which the trace pass looks up once per
+// pixel at the average position (fetch.glsl, svo_material_mix); coverage 0:
+// no surface, every other field 0. The radiance of
 // the background is not here: the trace pass writes it as its own image, so
 // that a pass adding light to the surface never adds it to the background.
 #ifndef SVO_GBUFFER_GLSL
@@ -29,6 +33,9 @@ struct SvoGBuffer {
   vec3 slope_cov;
   vec3 abar;
   vec3 a_s;
+  uint material;        // the material the pixel shows most
+  uint material2;       // the second
+  float material_mix;   // the first's share of the two
 };
 
 SVO_FN SvoGBuffer svo_gbuffer_empty() {
@@ -42,6 +49,9 @@ SVO_FN SvoGBuffer svo_gbuffer_empty() {
   g.slope_cov = vec3(0.0f);
   g.abar = vec3(0.0f);
   g.a_s = vec3(0.0f);
+  g.material = 0u;
+  g.material2 = 0u;
+  g.material_mix = 0.0f;
   return g;
 }
 
@@ -50,9 +60,9 @@ SVO_FN vec4 svo_gbuffer_pack(SvoGBuffer g, uint k) {
   if (k == 0u) return vec4(g.depth, g.position);
   if (k == 1u) return vec4(g.normal, g.coverage);
   if (k == 2u) return vec4(g.tangent, g.sigma_rho2);
-  if (k == 3u) return vec4(g.slope_cov, 0.0f);
-  if (k == 4u) return vec4(g.abar, 0.0f);
-  return vec4(g.a_s, 0.0f);
+  if (k == 3u) return vec4(g.slope_cov, float(g.material));
+  if (k == 4u) return vec4(g.abar, float(g.material2));
+  return vec4(g.a_s, g.material_mix);
 }
 
 SVO_FN SvoGBuffer svo_gbuffer_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4, vec4 v5) {
@@ -66,6 +76,9 @@ SVO_FN SvoGBuffer svo_gbuffer_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4
   g.slope_cov = vec3(v3);
   g.abar = vec3(v4);
   g.a_s = vec3(v5);
+  g.material = uint(max(v3.w, 0.0f) + 0.5f);
+  g.material2 = uint(max(v4.w, 0.0f) + 0.5f);
+  g.material_mix = v5.w;
   return g;
 }
 
@@ -76,7 +89,8 @@ SVO_FN SvoGBuffer svo_gbuffer_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4
                      buffer[SVO_GBUFFER_VEC4S * (texel) + 2u], buffer[SVO_GBUFFER_VEC4S * (texel) + 3u], \
                      buffer[SVO_GBUFFER_VEC4S * (texel) + 4u], buffer[SVO_GBUFFER_VEC4S * (texel) + 5u])
 
-// a + w b, field by field (coverage-weighted sums over elements and rays).
+// a + w b, field by field (coverage-weighted sums over elements and rays);
+// the materials are a's (they are looked up after the sum, not summed).
 SVO_FN SvoGBuffer svo_gbuffer_madd(SvoGBuffer a, SvoGBuffer b, float w) {
   SvoGBuffer r;
   r.depth = a.depth + w * b.depth;
@@ -88,6 +102,9 @@ SVO_FN SvoGBuffer svo_gbuffer_madd(SvoGBuffer a, SvoGBuffer b, float w) {
   r.slope_cov = a.slope_cov + w * b.slope_cov;
   r.abar = a.abar + w * b.abar;
   r.a_s = a.a_s + w * b.a_s;
+  r.material = a.material;
+  r.material2 = a.material2;
+  r.material_mix = a.material_mix;
   return r;
 }
 

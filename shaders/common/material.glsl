@@ -3,13 +3,32 @@
 // Schlick's Fresnel and height-correlated Smith masking), the Phong NDF with
 // Kelemen & Szirmay-Kalos's visibility term, or a measured BRDF (merl.glsl).
 // Evaluation, importance sampling and pdf, in a local frame whose z is the
-// lobe's normal. Host contract: distribution.glsl's (svo_table).
+// lobe's normal. Host contract: distribution.glsl's (svo_table), and
+// `shade` (SvoShadeParams) for svo_scene_material.
 #ifndef SVO_MATERIAL_GLSL
 #define SVO_MATERIAL_GLSL
 #include "beckmann.glsl"
 #include "merl.glsl"
 #include "shade_params.glsl"
 #include "smith.glsl"
+
+// Material `index` of the scene (the G-buffer's material indices), read from
+// the table SvoShadeParams points at; the parameters' own material where
+// there is no table (one material for the whole frame).
+SVO_FN SvoMaterial svo_scene_material(uint index) {
+  if (shade.material.w == 0u) return svo_material_of(shade);
+  uint at = shade.sampling.w + min(index, shade.material.w - 1u) * SVO_MATERIAL_FLOATS;
+  SvoMaterial m;
+  m.kind = floatBitsToUint(svo_table(at));
+  m.merl = floatBitsToUint(svo_table(at + 1u));
+  m.merl_sampling = floatBitsToUint(svo_table(at + 2u));
+  m.exponent = svo_table(at + 3u);
+  m.diffuse = vec3(svo_table(at + 4u), svo_table(at + 5u), svo_table(at + 6u));
+  float alpha = svo_table(at + 7u);
+  m.alpha2 = vec2(alpha * alpha);
+  m.f0 = vec3(svo_table(at + 8u), svo_table(at + 9u), svo_table(at + 10u));
+  return m;
+}
 
 SVO_FN float svo_luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 

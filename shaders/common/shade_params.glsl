@@ -21,10 +21,11 @@ SVO_CONST uint SVO_SHADE_LIGHT_SHADOWS = 2u;  // so do the lights
 struct SvoShadeParams {
   uvec4 env;        // x: width, y: height (0: no environment), z: table offset of the rgb texels, w: of the distribution
   vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, zw: unused
-  uvec4 material;   // x: kind (SVO_BRDF_*), y: table offset of a measured BRDF's values, z: of its sampling tables
+  uvec4 material;   // x: kind (SVO_BRDF_*), y: table offset of a measured BRDF's values, z: of its sampling tables,
+                    // w: the scene's materials in the table (0: this one alone; svo_scene_material)
   vec4 diffuse;     // rgb: diffuse albedo, tinted by the voxels' abar; w: roughness alpha (Beckmann, GGX)
   vec4 specular;    // rgb: Fresnel reflectance at normal incidence f0; w: Phong exponent
-  uvec4 sampling;   // x: samples per pixel, y: seed, z: flags (SVO_SHADE_*), w: unused
+  uvec4 sampling;   // x: samples per pixel, y: seed, z: flags (SVO_SHADE_*), w: table offset of the scene's materials
 };
 
 // A material as the shading kernels read it (material.glsl).
@@ -37,6 +38,10 @@ struct SvoMaterial {
   uint merl;        // table offset of a measured BRDF's values
   uint merl_sampling;  // and of its sampling tables
 };
+
+// Floats per material of the scene's table: kind, MERL values and sampling
+// offsets (uint bits), exponent, diffuse rgb, roughness alpha, f0 rgb, 0.
+SVO_CONST uint SVO_MATERIAL_FLOATS = 12u;
 
 SVO_FN SvoMaterial svo_material_of(SvoShadeParams sp) {
   SvoMaterial m;

@@ -184,6 +184,12 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   sum.background *= 1.0f / count;
   sum.g.coverage = covered;
   sum.g = svo_gbuffer_finish(sum.g, covered / count);
+  if ((params.image.w & SVO_SPEC_FLAGS & SVO_FLAG_GBUFFER) != 0u && sum.g.coverage > 0.0f) {
+    SvoMaterialMix mm = svo_material_mix(sum.g.position, params.eye.w * sum.g.depth);
+    sum.g.material = mm.a;
+    sum.g.material2 = mm.b;
+    sum.g.material_mix = mm.mix;
+  }
   return sum;
 }
 

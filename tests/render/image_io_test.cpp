@@ -51,6 +51,9 @@ Frame test_frame(uint32_t width, uint32_t height) {
       t.abar = {0.3f, u, v};
       t.a_s = {-0.2f * u, 0.1f * v, 0.7f};
       t.coverage = (u + v) / 2;
+      t.material = x % 3;
+      t.material2 = y % 5;
+      t.material_mix = 1 - u * v;
       f.gbuffer.push_back(t);
       f.steps.push_back(x * 1000 + y * 7 + 3);
     }
@@ -146,7 +149,8 @@ TEST(ImageIo, GBufferHasEveryChannelExactly) {
       const float expected[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,   t.normal.y,
                                 t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
                                 t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,     t.a_s.x,
-                                t.a_s.y,       t.a_s.z,      t.coverage};
+                                t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2),
+                                t.material_mix};
       static_assert(std::size(expected) == kGBufferChannels.size());
       for (size_t c = 0; c < kGBufferChannels.size(); ++c) {
         ASSERT_EQ(image.at(x, y, index[c]), expected[c]) << kGBufferChannels[c] << " at " << x << "," << y;

@@ -172,7 +172,7 @@ struct Builder {
             for (int x = lo.x; x <= hi.x; ++x, ++i) {
               const FinePoint& p = points[i];
               if (p.near && std::abs(p.distance) <= 0.5f * h) {
-                found.push_back({pack({x, y, z}), {p.closest, p.normal, p.colour}});
+                found.push_back({pack({x, y, z}), {p.closest, p.normal, p.colour, p.material}});
               }
             }
       }
@@ -343,6 +343,14 @@ struct Builder {
     if ((colour_varies && correlated * 100 >= filled) || detail_colour) {
       tree.channels.push_back({Channel::ColourSlope, Encoding::Signed8});
     }
+    // Materials: the source's table; which one each voxel shows only when
+    // there is a choice.
+    tree.materials = source.materials();
+    if (tree.materials.size() > octree::kMaxMaterials) {
+      throw std::invalid_argument("the scene has " + std::to_string(tree.materials.size()) + " materials (at most " +
+                                  std::to_string(octree::kMaxMaterials) + ")");
+    }
+    if (tree.materials.size() > 1) tree.channels.push_back({Channel::Material, Encoding::MaterialShare8});
     tree.constant_colour = colour_mean;
     for (const auto& c : tree.channels) {
       tree.brick_data.emplace_back(size_t(tree.pool_samples()) * octree::encoding_bytes(c.encoding));
@@ -384,6 +392,7 @@ struct Builder {
                 if (p.near) {
                   v.nbar = p.normal;
                   v.abar = p.colour;
+                  v.material = p.material;
                 } else {
                   glm::vec3 n(0), a(0);
                   int count = 0;
@@ -391,7 +400,7 @@ struct Builder {
                     int qx = x + k % 3 - 1, qy = y + (k / 3) % 3 - 1, qz = z + k / 9 - 1;
                     if (qx < 0 || qy < 0 || qz < 0 || qx >= S || qy >= S || qz >= S) continue;
                     const FinePoint& q = at(qx, qy, qz);
-                    if (q.near) n += q.normal, a += q.colour, ++count;
+                    if (q.near) n += q.normal, a += q.colour, v.material = q.material, ++count;
                   }
                   if (count) v.nbar = glm::normalize(n + glm::vec3(0, 0, 1e-12f)), v.abar = a / float(count);
                 }
@@ -444,6 +453,7 @@ struct Builder {
                     sum.slope_cov += u.slope_cov;
                     sum.abar += u.abar;
                     sum.a_s += u.a_s;
+                    v.material = u.material;
                     ++count;
                   }
                   if (count) {
@@ -476,6 +486,7 @@ struct Builder {
                       float e = u.hbar + float(glm::dot(glm::dvec3(u.nbar), at - glm::dvec3(q) * coarse.voxel));
                       v.nbar = u.nbar;
                       v.abar = u.abar;
+                      v.material = u.material;
                       if ((e < 0) == (v.hbar < 0) && std::abs(e) > far) v.hbar = e;
                       break;
                     }

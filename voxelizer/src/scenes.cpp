@@ -112,6 +112,7 @@ void AnalyticScene::evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint
             point.closest = c;
             point.normal = normal(c);
             point.colour = colour(c);
+            point.material = material(c);
             out.push_back(point);
             continue;
           }
@@ -359,11 +360,81 @@ octree::Detail make_detail(const AnalyticScene& scene, uint32_t octaves, float a
   return d;
 }
 
-std::vector<std::string> scene_names() { return {"bumpy-sphere", "heightfield", "grooved-cylinder"}; }
+namespace {
+
+// Three spheres on a floor, each its own material, the floor's tiles
+// alternating between a glossy and a rough GGX (a glossiness map): the
+// scene of the module papers' figures, with an exact distance (the union of
+// a box's and three spheres' exact distances).
+class MaterialSpheres : public AnalyticScene {
+ public:
+  float box(glm::vec3 p) const {
+    glm::vec3 q = glm::abs(p - kFloorCentre) - kFloorHalf;
+    return glm::length(glm::max(q, glm::vec3(0))) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0f);
+  }
+  float sphere(glm::vec3 p, int i) const { return glm::length(p - centre(i)) - kRadius; }
+  static glm::vec3 centre(int i) { return glm::vec3(0.75f * float(i - 1), kRadius - kSink, 0.0f); }
+  float distance(glm::vec3 p) const override {
+    float d = box(p);
+    for (int i = 0; i < 3; ++i) d = std::min(d, sphere(p, i));
+    return d;
+  }
+  // The part nearest to q: the floor (-1) or sphere i.
+  int part(glm::vec3 q) const {
+    int best = -1;
+    float d = std::abs(box(q));
+    for (int i = 0; i < 3; ++i) {
+      float s = std::abs(sphere(q, i));
+      if (s < d) d = s, best = i;
+    }
+    return best;
+  }
+  uint32_t material(glm::vec3 q) const override {
+    int i = part(q);
+    if (i >= 0) return uint32_t(2 + i);
+    // The glossiness map: tiles of kTile, glossy and rough in turn.
+    int tile = int(std::floor(q.x / kTile)) + int(std::floor(q.z / kTile));
+    return uint32_t(tile & 1);
+  }
+  glm::vec3 colour(glm::vec3 q) const override {
+    static constexpr glm::vec3 kColours[3] = {{1.0f, 1.0f, 1.0f}, {0.75f, 0.12f, 0.1f}, {0.35f, 0.55f, 0.8f}};
+    int i = part(q);
+    return i < 0 ? glm::vec3(0.6f, 0.58f, 0.55f) : kColours[i];
+  }
+  std::vector<std::string> materials() const override {
+    return {R"({"name": "floor-glossy", "brdf": "ggx", "roughness": 0.05, "f0": [0.04, 0.04, 0.04], "diffuse": 0.8})",
+            R"({"name": "floor-rough", "brdf": "ggx", "roughness": 0.45, "f0": [0.04, 0.04, 0.04], "diffuse": 0.8})",
+            R"({"name": "gold", "brdf": "ggx", "roughness": 0.2, "f0": [1.0, 0.78, 0.34], "diffuse": 0})",
+            R"({"name": "plastic", "brdf": "phong", "exponent": 200, "f0": [0.05, 0.05, 0.05], "diffuse": 0.9})",
+            R"({"name": "clay", "brdf": "lambert", "diffuse": 0.9})"};
+  }
+  Box bounds() const override {
+    return {kFloorCentre - kFloorHalf, glm::vec3(kFloorHalf.x, 2 * kRadius - kSink, kFloorHalf.z)};
+  }
+  double surface_area() const override {
+    const glm::dvec3 h(kFloorHalf);
+    return 8.0 * (h.x * h.y + h.y * h.z + h.z * h.x) + 3 * 4 * 3.14159265 * kRadius * kRadius;
+  }
+  std::string name() const override { return "material-spheres"; }
+
+ private:
+  static constexpr float kRadius = 0.3f;
+  static constexpr float kSink = 0.03f;  // the spheres sink into the floor: no tangent contact
+  static constexpr float kTile = 0.25f;
+  static constexpr glm::vec3 kFloorCentre{0.0f, -0.05f, 0.0f};
+  static constexpr glm::vec3 kFloorHalf{1.2f, 0.05f, 0.7f};
+};
+
+}  // namespace
+
+std::vector<std::string> scene_names() {
+  return {"bumpy-sphere", "heightfield", "grooved-cylinder", "material-spheres"};
+}
 
 std::unique_ptr<AnalyticScene> make_scene(const std::string& name) {
   if (name == "bumpy-sphere") return std::make_unique<BumpySphere>();
   if (name == "grooved-cylinder") return std::make_unique<GroovedCylinder>();
+  if (name == "material-spheres") return std::make_unique<MaterialSpheres>();
   if (name == "heightfield") {
     return std::make_unique<HeightfieldScene>(64, 0.08f, 0.25f, 0.02f, 5, glm::vec3(0.45f, 0.4f, 0.3f),
                                               glm::vec3(0.3f, 0.2f, 0.15f));

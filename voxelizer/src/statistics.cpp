@@ -1,6 +1,9 @@
 #include "svo/voxelizer/statistics.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <glm/geometric.hpp>
 
 #include "common/shared_math.h"
@@ -68,6 +71,23 @@ octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::sp
                           float(sxy / sw - mean_slope.x * mean_slope.y));
   v.abar = glm::vec3(abar);
   v.a_s = glm::vec3(0);
+  // Dominant material: scenes have few, so a short list of counts.
+  std::vector<std::pair<uint32_t, uint32_t>> counts;
+  for (uint32_t i : indices) {
+    uint32_t m = samples[i].material;
+    auto it = std::find_if(counts.begin(), counts.end(), [m](const auto& c) { return c.first == m; });
+    if (it == counts.end()) {
+      counts.push_back({m, 1});
+    } else {
+      ++it->second;
+    }
+  }
+  auto best = counts.begin();
+  for (auto it = counts.begin(); it != counts.end(); ++it) {
+    if (it->second > best->second || (it->second == best->second && it->first < best->first)) best = it;
+  }
+  v.material = best->first;
+  v.material_share = float(double(best->second) / double(indices.size()));
   if (v.sigma_h > 0) {
     glm::dvec3 num(0);
     double den = 0;

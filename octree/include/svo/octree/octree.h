@@ -74,6 +74,7 @@ enum class Channel : uint32_t {
   SlopeCov = 5,     // anisotropic slope covariance (xx, yy, xy) in the frame of nbar
   Colour = 6,       // abar: mean colour, linear RGB
   ColourSlope = 7,  // a_s: colour-height correlation, RGB
+  Material = 8,     // the dominant material (index into Octree::materials) by covered area, and its share
 };
 
 // How a channel is stored. Values are part of the file format: never renumber.
@@ -85,6 +86,7 @@ enum class Encoding : uint32_t {
   Cov3x8 = 5,         // (sx, sy, rho): two U8LogSlope deviations and a correlation in [-1, 1]
   Srgb8 = 6,          // RGB in [0, 1], sRGB transfer, 3 x 8 bits
   Signed8 = 7,        // RGB in [-1, 1], 3 x 8 bits
+  MaterialShare8 = 8,  // material index (8 bits), its share of the covered area (8 bits, share * 255)
 };
 
 const char* channel_name(Channel channel);     // "distance", "normal", ...
@@ -108,7 +110,14 @@ struct Voxel {
   glm::vec3 slope_cov{0, 0, 0};  // (var_x, var_y, cov_xy) of slopes in the frame of nbar
   glm::vec3 abar{0, 0, 0};
   glm::vec3 a_s{0, 0, 0};
+  uint32_t material = 0;      // dominant material, an index into Octree::materials
+  float material_share = 1;   // its share of the footprint's surface area, in [0, 1]
 };
+
+// Most materials an octree carries: a material index is 8 bits.
+constexpr uint32_t kMaxMaterials = 255;
+// Longest material description, bytes of JSON text.
+constexpr uint32_t kMaxMaterialBytes = 65536;
 
 struct Node {
   uint32_t children = kNone;  // index of the first of 8 child nodes, or kNone
@@ -139,6 +148,10 @@ struct Octree {
   float sigma_rho2 = 0;                         // micro-BRDF slope variance (Heitz & Neyret 5.5), scene-wide
   glm::vec3 constant_colour{0.8f, 0.8f, 0.8f};  // abar when no Colour channel is stored
   Detail detail;                                // octaves = 0: none
+  // The scene's materials as JSON texts (render::parse_material reads them;
+  // DESIGN 10.2), empty when the scene has none of its own. With two or
+  // more, the Material channel says which one each voxel shows.
+  std::vector<std::string> materials;
 
   std::vector<ChannelInfo> channels;       // in storage order
   std::vector<uint32_t> depth_first_node;  // size depth_count + 1; nodes of depth d: [first[d], first[d+1])

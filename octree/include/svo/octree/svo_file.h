@@ -2,7 +2,7 @@
 // with every count and offset validated, and readable in place through a
 // read-only memory map (DESIGN section 7).
 //
-// Layout, version 2, and version 3 = version 2 plus the detail block (an
+// Layout, version 2; version 3 = version 2 plus the detail block (an
 // octree with procedural detail octaves, Octree::detail; the writer writes
 // version 2 when there is none). All integers little-endian, floats
 // IEEE-754 binary32. Offsets are bytes from the start of the file.
@@ -10,7 +10,7 @@
 //   header, 128 bytes at offset 0
 //     off size  field
 //       0    8  magic "SVOCTREE"
-//       8    4  u32 version = 2 or 3 (version 1 stored (brick_size + 1)^3
+//       8    4  u32 version = 2, 3 or 4 (version 1 stored (brick_size + 1)^3
 //                                   samples per brick; it is refused)
 //      12    4  u32 header_bytes = 128
 //      16    4  u32 brick_size        power of two in [2, 32]
@@ -37,8 +37,16 @@
 //      16    4  f32 gain              (0, 1]
 //      20   12  f32 colour_slope[3]   finite
 //      32   32  zero
+//   version 4: the same detail block, whose octaves may be 0 (no detail),
+//   then the material block at offset 192 (Octree::materials):
+//       0    4  u32 count             [1, 255]
+//       4    4  u32 bytes             of the block before its padding
+//       8       per material: u32 length in [1, 65536], then that many bytes
+//               of JSON text (no NUL), back to back; they fill exactly `bytes`
+//               then zeros up to a multiple of 8
+//   A Material channel needs two or more materials.
 //   channel table, channel_count entries of 32 bytes (at or after the end
-//   of the header, or of the detail block in version 3)
+//   of the header, of the detail block in version 3, of the material block in 4)
 //       0    4  u32 channel           Channel, unique within the file
 //       4    4  u32 encoding          Encoding, encoding_fits(channel, encoding)
 //       8    4  u32 bytes_per_sample  = encoding_bytes(encoding)
@@ -119,7 +127,8 @@ class SvoView {
 
   const std::string& name() const { return name_; }
   uint64_t file_bytes() const { return bytes_.size(); }
-  uint32_t version() const { return shape_.detail.octaves > 0 ? 3 : 2; }  // 3: with the detail block
+  // 3: with the detail block, 4: with materials
+  uint32_t version() const { return !shape_.materials.empty() ? 4 : shape_.detail.octaves > 0 ? 3 : 2; }
 
   // The header's scalar fields, channels and depth table, as an Octree with
   // no nodes and no brick data (its brick_count is set).

@@ -7,6 +7,8 @@
 #include <glm/vec3.hpp>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "svo/voxelizer/mesh.h"
 #include "svo/voxelizer/scenes.h"
@@ -19,6 +21,7 @@ struct SurfaceHit {
   glm::dvec3 position{0};
   glm::vec3 normal{0, 0, 1};  // unit true normal, on the side the ray came from
   glm::vec3 colour{0};        // linear RGB attribute at `position`
+  uint32_t material = 0;      // the scene's material at `position` (an index into its materials)
 };
 
 // Rays against a surface. Every query is thread-safe. Directions are unit
@@ -33,6 +36,8 @@ class Geometry {
   // Micro-BRDF slope variance sigma_rho^2 of the material (Heitz & Neyret 5.5).
   virtual float sigma_rho2() const = 0;
   virtual voxelizer::Box bounds() const = 0;
+  // The scene's materials as JSON texts (SurfaceSource::materials); empty: none of its own.
+  virtual std::vector<std::string> materials() const { return {}; }
   // How far above a hit (along its normal) a shadow ray must start so that it
   // does not find the surface it leaves: a few times the precision of a hit.
   virtual double shadow_offset() const = 0;

@@ -47,9 +47,10 @@ void check_writable_output(const std::string& path);
 //        not hold width * height pixels, or any failure to write.
 void write_colour(const std::string& path, const Frame& frame);
 
-constexpr std::array<const char*, 21> kGBufferChannels{
-    "depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "T.x", "T.y", "T.z", "slope_cov.xx", "slope_cov.yy",
-    "slope_cov.xy", "sigma_rho2", "abar.R", "abar.G", "abar.B", "a_s.R", "a_s.G", "a_s.B", "coverage"};
+constexpr std::array<const char*, 24> kGBufferChannels{
+    "depth",        "P.x",        "P.y",    "P.z",    "N.x",    "N.y",      "N.z",       "T.x",
+    "T.y",          "T.z",        "slope_cov.xx", "slope_cov.yy", "slope_cov.xy", "sigma_rho2", "abar.R", "abar.G",
+    "abar.B",       "a_s.R",      "a_s.G",  "a_s.B",  "coverage", "material", "material2", "material_mix"};
 
 // Writes frame.gbuffer as one multi-channel float EXR, atomically.
 // @throw ImageError when `path` is not .exr, the frame has no G-buffer of

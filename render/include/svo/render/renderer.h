@@ -113,6 +113,9 @@ struct GBufferTexel {
   glm::vec3 slope_cov{0};  // (xx, yy, xy) in (tangent, normal x tangent), without sigma_rho2
   glm::vec3 abar{0};
   glm::vec3 a_s{0};
+  uint32_t material = 0;    // the material the pixel shows most (an index into the scene's materials)
+  uint32_t material2 = 0;   // the second
+  float material_mix = 0;   // the first's share of the two (0 where nothing is covered)
   // The mean per-axis slope variance with the micro-BRDF's.
   float slope_variance() const { return 0.5f * (slope_cov.x + slope_cov.y) + sigma_rho2; }
 };

@@ -78,6 +78,13 @@ Material load_material(const std::filesystem::path& path);
 // The material as JSON (the keys parse_material reads), one line.
 std::string material_json(const Material& material);
 
+// The materials of a scene (Octree::materials, SurfaceSource::materials):
+// JSON texts parsed as parse_material parses them, a relative "file" taken
+// from the working directory.
+// @throw std::runtime_error "material: material N of SOURCE: ..." (one line)
+std::vector<std::shared_ptr<const Material>> parse_scene_materials(const std::vector<std::string>& texts,
+                                                                   const std::string& source);
+
 // The material of frames without --material: a white diffuse part and the
 // Beckmann lobe of the tracer's built-in shading (f0 = `specular`, slope
 // variance sigma_rho^2: alpha = sqrt(2 sigma_rho^2)).
@@ -108,7 +115,11 @@ struct ShadingOptions {
   std::shared_ptr<const Environment> environment;  // null: none
   float env_rotate_deg = 0.0f;                     // about +Y
   float env_scale = 1.0f;                          // radiance multiplier, >= 0
-  std::shared_ptr<const Material> material;        // null: Beckmann from the render settings
+  std::shared_ptr<const Material> material;        // null: the scene's, else Beckmann from the render settings
+  // The scene's materials (an octree's or a source's), indexed by the
+  // G-buffer's material indices; used when `material` is null. The forward
+  // pass fills them from the octree; the reference from the source.
+  std::vector<std::shared_ptr<const Material>> scene_materials;
   uint32_t spp = 16;                               // samples per pixel of the forward pass, >= 1
   uint32_t seed = 1;
   bool env_shadows = false;  // environment samples see visibility cones through the octree
@@ -120,8 +131,8 @@ struct ShadingTables {
   svo::math::SvoShadeParams params{};
 };
 
-// `default_material` is used when options.material is null; light_shadows
-// sets SVO_SHADE_LIGHT_SHADOWS.
+// `default_material` is used when options.material is null and the scene
+// has no materials; light_shadows sets SVO_SHADE_LIGHT_SHADOWS.
 ShadingTables build_shading_tables(const ShadingOptions& options, const Material& default_material, bool light_shadows);
 
 // The environment's texels as a piecewise-constant distribution of their

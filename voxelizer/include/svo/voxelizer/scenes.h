@@ -30,6 +30,9 @@ class AnalyticScene : public SurfaceSource {
   virtual glm::dvec2 distance_bound(glm::vec3 p) const;
   // Attribute (linear RGB) at a surface point.
   virtual glm::vec3 colour(glm::vec3 surface_point) const = 0;
+  // Material at a surface point: an index into materials() (0 for a scene
+  // with one material or none).
+  virtual uint32_t material(glm::vec3 /*surface_point*/) const { return 0; }
   // Scene name as given to --scene.
   virtual std::string name() const = 0;
   // d(colour) / d(height) where the scene's colour follows its height, at
@@ -78,6 +81,8 @@ class DetailedScene : public AnalyticScene {
   // reach, without evaluating the octaves.
   glm::dvec2 distance_bound(glm::vec3 p) const override;
   glm::vec3 colour(glm::vec3 surface_point) const override;
+  uint32_t material(glm::vec3 surface_point) const override { return base_->material(surface_point); }
+  std::vector<std::string> materials() const override { return base_->materials(); }
   glm::vec3 colour_height_slope() const override { return base_->colour_height_slope(); }
   std::string name() const override { return base_->name(); }
   Box bounds() const override;
@@ -113,6 +118,9 @@ std::vector<std::string> scene_names();
 
 // "bumpy-sphere" (paper Fig. 11), "heightfield" (Fig. 9), "grooved-cylinder"
 // (Fig. 5); colour correlated with height as a(h) = abar + a_s s(h).
+// "material-spheres": three spheres of different materials (gold GGX,
+// Phong plastic, Lambert clay) on a floor tiled by a glossiness map (GGX
+// tiles of roughness 0.05 and 0.45), five materials (materials()).
 // Throws std::invalid_argument naming the valid names for anything else.
 std::unique_ptr<AnalyticScene> make_scene(const std::string& name);
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -36,6 +37,7 @@ struct FinePoint {
   glm::vec3 closest{0, 0, 0};  // closest surface point
   glm::vec3 normal{0, 0, 1};   // unit surface normal at `closest`
   glm::vec3 colour{0, 0, 0};   // linear RGB attribute at `closest`
+  uint32_t material = 0;       // index into materials() of the surface at `closest`
 };
 
 class SurfaceSource {
@@ -56,6 +58,10 @@ class SurfaceSource {
   // the voxelizer folds the others into the statistics and records this in
   // the octree for the renderer (shaders/common/detail.glsl).
   virtual octree::Detail detail() const { return {}; }
+  // The surface's materials as JSON texts (DESIGN 10.2), carried into the
+  // octree; FinePoint::material indexes them. Empty: the scene has none of
+  // its own (the renderer's --material or built-in one applies).
+  virtual std::vector<std::string> materials() const { return {}; }
   // Called once before any other query below, with the lattice to serve.
   virtual void prepare(const Lattice& lattice) = 0;
   // Finest-level bricks (`brick_size` cells, brick b owns lattice points

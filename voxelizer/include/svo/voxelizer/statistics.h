@@ -18,6 +18,7 @@ struct SurfaceSample {
   glm::vec3 position;
   glm::vec3 normal;
   glm::vec3 colour;
+  uint32_t material = 0;
 };
 
 // Statistics of `samples[indices]` for a voxel centred at `centre`:
@@ -30,7 +31,9 @@ struct SurfaceSample {
 //  - slopes of n_i in the frame svo_tangent_frame(nbar): covariance about
 //    their mean (slope_cov = (var_x, var_y, cov_xy));
 //  - abar = weighted mean colour; a_s = sum s(h_i)(a_i - abar) / sum s(h_i)^2 with
-//    s(h) = erf(h / (sqrt(2) sigma_h)), 0 when sigma_h = 0.
+//    s(h) = erf(h / (sqrt(2) sigma_h)), 0 when sigma_h = 0;
+//  - material: the one most samples carry (the dominant by surface area;
+//    ties to the lower index), material_share: its fraction of the samples.
 // Sums in double. `indices` must not be empty.
 octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::span<const uint32_t> indices,
                                  glm::vec3 centre);
