@@ -132,9 +132,9 @@ void run_speed_error(const SpeedErrorArgs& a) {
     tree = voxelizer::voxelize(*scene, vo);
     geometry = reference::scene_geometry(*scene);
   } else {
-    auto mesh = voxelizer::load_mesh(a.source.input, mesh_options(a.source));
-    tree = voxelizer::voxelize(*mesh, vo);
-    geometry = reference::mesh_geometry(voxelizer::read_mesh(a.source.input, mesh_options(a.source)));
+    voxelizer::TriangleMesh mesh = read_source_mesh(a.source);
+    tree = voxelizer::voxelize(*voxelizer::mesh_source(mesh), vo);
+    geometry = reference::mesh_geometry(std::move(mesh));
   }
 
   std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});

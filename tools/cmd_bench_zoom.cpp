@@ -123,7 +123,7 @@ void run_zoom(const ZoomArgs& a) {
     if (a.source.roughness < 0) scene->set_sigma_rho2(tree.sigma_rho2);
     geometry = reference::scene_geometry(*scene);
   } else {
-    voxelizer::TriangleMesh mesh = voxelizer::read_mesh(a.source.input, mesh_options(a.source));
+    voxelizer::TriangleMesh mesh = read_source_mesh(a.source);
     if (a.source.roughness < 0) mesh.sigma_rho2 = tree.sigma_rho2;
     geometry = reference::mesh_geometry(std::move(mesh));
   }

@@ -77,10 +77,11 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       // open surface, whose inside the level set guesses): one line each on
       // stderr, the run goes on. (svo reference ray traces the triangles
       // themselves: neither matters there.)
-      voxelizer::MeshOptions options = mesh_options(a->source);
-      options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
-      source = voxelizer::load_mesh(a->source.input, options);
+      source = voxelizer::mesh_source(read_source_mesh(
+          a->source, [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; }));
     }
+    // The source's own materials are checked now, not when rendering.
+    render::parse_scene_materials(source->materials(), what);
     std::string material;
     if (!a->material.empty()) {
       if (!source->materials().empty()) {

@@ -6,11 +6,17 @@ namespace svo::tools {
 
 void add_source_options(CLI::App& cmd, SourceOptions& o) {
   auto* input = cmd.add_option("input", o.input, "Mesh file: OBJ, PLY, OFF or STL")->group("Input");
-  auto* scene =
-      cmd.add_option("--scene", o.scene,
-                     "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, grooved-cylinder")
-          ->group("Input");
+  auto* scene = cmd.add_option("--scene", o.scene,
+                               "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, "
+                               "grooved-cylinder, material-spheres (five materials)")
+                    ->group("Input");
+  auto* scene_file = cmd.add_option("--scene-file", o.scene_file,
+                                    "A scene of several meshes, each with a transform and a material (JSON; "
+                                    "docs/materials.md, \"Scene files\")")
+                         ->group("Input");
   input->excludes(scene);
+  input->excludes(scene_file);
+  scene->excludes(scene_file);
   cmd.add_option("--colour", o.colour, "Constant colour R,G,B in [0, 1] for meshes without colours")
       ->delimiter(',')
       ->expected(3)
@@ -39,7 +45,9 @@ void add_source_options(CLI::App& cmd, SourceOptions& o) {
 }
 
 void check_source_options(const SourceOptions& o, const std::string& command) {
-  if (o.input.empty() == o.scene.empty()) throw std::invalid_argument(command + ": give a mesh file or --scene NAME");
+  if (int(!o.input.empty()) + int(!o.scene.empty()) + int(!o.scene_file.empty()) != 1) {
+    throw std::invalid_argument(command + ": give a mesh file, --scene NAME or --scene-file SCENE.json");
+  }
   if (o.detail_octaves > 0 && o.scene.empty()) {
     throw std::invalid_argument(command + ": --detail-octaves needs --scene (detail octaves displace the built-in scenes)");
   }
@@ -49,7 +57,15 @@ void check_source_options(const SourceOptions& o, const std::string& command) {
   }
 }
 
-std::string source_name(const SourceOptions& o) { return o.input.empty() ? "scene " + o.scene : o.input; }
+std::string source_name(const SourceOptions& o) {
+  return !o.scene.empty() ? "scene " + o.scene : !o.scene_file.empty() ? "scene file " + o.scene_file : o.input;
+}
+
+voxelizer::TriangleMesh read_source_mesh(const SourceOptions& o, std::function<void(const std::string&)> warning) {
+  voxelizer::MeshOptions options = mesh_options(o);
+  options.warning = std::move(warning);
+  return o.scene_file.empty() ? voxelizer::read_mesh(o.input, options) : voxelizer::read_scene_file(o.scene_file, options);
+}
 
 std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves) {
   auto scene = voxelizer::make_scene(o.scene);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ namespace svo::tools {
 struct SourceOptions {
   std::string input;          // mesh file
   std::string scene;          // --scene NAME
+  std::string scene_file;     // --scene-file SCENE.json
   std::vector<float> colour;  // --colour R,G,B (empty: the mesh's or the default)
   float roughness = -1;       // --roughness sigma_rho (< 0: the source's own)
   // Procedural detail octaves (--detail-*; scenes only).
@@ -31,12 +33,12 @@ struct SourceOptions {
 // --detail-wavelength, --detail-seed (group Detail).
 void add_source_options(CLI::App& cmd, SourceOptions& o);
 
-// Throws std::invalid_argument "<command>: give a mesh file or --scene NAME"
-// unless exactly one is given, and when detail octaves are asked of a mesh
+// Throws std::invalid_argument "<command>: give a mesh file, --scene NAME or
+// --scene-file SCENE.json" unless exactly one is given, and when detail octaves are asked of a mesh
 // or their amplitude exceeds their wavelength.
 void check_source_options(const SourceOptions& o, const std::string& command);
 
-// "scene NAME" or the mesh path, for messages and reports.
+// "scene NAME", "scene file PATH" or the mesh path, for messages and reports.
 std::string source_name(const SourceOptions& o);
 
 // The procedural scene of --scene, with --roughness and the detail octaves
@@ -47,5 +49,9 @@ std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions&
 
 // --colour and --roughness as mesh options.
 voxelizer::MeshOptions mesh_options(const SourceOptions& o);
+
+// The mesh file or the scene file's merged meshes (voxelizer::read_mesh,
+// read_scene_file), with mesh_options(o) and `warning`.
+voxelizer::TriangleMesh read_source_mesh(const SourceOptions& o, std::function<void(const std::string&)> warning = {});
 
 }  // namespace svo::tools

@@ -124,6 +124,9 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     for (uint32_t i = 0; i < count; ++i) {
       if (at + 4 > end + bytes) fail("material block: material " + u(i) + " starts past the block's end");
       const uint32_t length = get_u32(p + at);
+      if (length < 1 || length > kMaxMaterialBytes) {
+        fail("material " + u(i) + " has " + u(length) + " bytes (must be in [1, " + u(kMaxMaterialBytes) + "])");
+      }
       if (length > end + bytes - at - 4) {
         fail("material block: material " + u(i) + " has " + u(length) + " bytes, past the block's end");
       }

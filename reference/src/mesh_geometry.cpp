@@ -83,6 +83,7 @@ class MeshGeometry : public Geometry {
     hit.normal = mesh_.face_normals[tri];
     if (glm::dot(glm::dvec3(hit.normal), d) > 0) hit.normal = -hit.normal;
     hit.colour = mesh_.colour(tri, bary);
+    hit.material = mesh_.face_material.empty() ? 0u : mesh_.face_material[tri];
     return hit;
   }
 
@@ -97,6 +98,7 @@ class MeshGeometry : public Geometry {
 
   float sigma_rho2() const override { return mesh_.sigma_rho2; }
   voxelizer::Box bounds() const override { return mesh_.bounds; }
+  std::vector<std::string> materials() const override { return mesh_.materials; }
   double shadow_offset() const override { return offset_; }
 
  private:

@@ -119,5 +119,59 @@ TEST_F(ForwardOnBothHosts, TheEnvironmentIsTheBackground) {
   }
 }
 
+// A scene with five materials (its own, carried by the octree): both hosts
+// look up the same materials into the G-buffer and shade each pixel with
+// its own.
+TEST(ForwardMaterials, BothHostsShadeEachPixelWithItsMaterials) {
+  const auto scene = voxelizer::make_scene("material-spheres");
+  const octree::Octree tree = test::voxelize(*scene, 64);
+  ASSERT_EQ(tree.materials.size(), 5u);
+  vk::ContextOptions options;
+  options.device = "llvmpipe";
+  options.validation = true;
+  vk::Context context(options);
+  NativeRenderer native(tree);
+  GpuRenderer vulkan(context, tree);
+  RenderSettings s;
+  s.width = 48;
+  s.height = 32;
+  s.camera = test::looking_at_origin({0.0f, 1.1f, 2.2f}, 40.0f);
+  s.camera.target = glm::vec3(0, 0.15f, 0);
+  s.lights.clear();
+  s.ambient = glm::vec3(0);
+  s.gbuffer = true;
+  s.shading.environment = std::make_shared<const Environment>(test::sky());
+  s.shading.spp = 16;
+  Frame frames[2];
+  int host = 0;
+  for (Renderer* r : {static_cast<Renderer*>(&native), static_cast<Renderer*>(&vulkan)}) {
+    r->add_pass(make_pass("forward"));
+    frames[host++] = r->render(s);
+  }
+  const Frame &a = frames[0], &b = frames[1];
+  ASSERT_EQ(a.gbuffer.size(), b.gbuffer.size());
+  int covered = 0, same = 0;
+  bool seen[5] = {};
+  double diff = 0, sum = 0;
+  for (size_t i = 0; i < a.gbuffer.size(); ++i) {
+    const GBufferTexel &x = a.gbuffer[i], &y = b.gbuffer[i];
+    if (x.coverage < 0.99f || y.coverage < 0.99f) continue;
+    ++covered;
+    same += x.material == y.material && x.material2 == y.material2 && std::abs(x.material_mix - y.material_mix) < 1e-3f;
+    ASSERT_LT(x.material, 5u);
+    seen[x.material] = true;
+    for (int k = 0; k < 3; ++k) {
+      diff += std::abs(double(a.colour[i][k]) - double(b.colour[i][k]));
+      sum += std::abs(double(a.colour[i][k]));
+    }
+  }
+  EXPECT_GT(covered, 400);
+  EXPECT_GE(same, covered * 99 / 100) << "the hosts' G-buffers name other materials";
+  for (int m = 0; m < 5; ++m) EXPECT_TRUE(seen[m]) << "no pixel shows material " << m;
+  EXPECT_LT(diff / sum, 0.01);
+  test::save_for_inspection(a, "forward_materials_native");
+  test::save_for_inspection(b, "forward_materials_lavapipe");
+}
+
 }  // namespace
 }  // namespace svo::render

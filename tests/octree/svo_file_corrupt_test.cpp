@@ -115,10 +115,12 @@ TEST_F(SvoCorrupt, WrongMagicAndVersion) {
   bytes[0] = 'X';
   bytes[7] = 0;
   expect_rejected(bytes, "not an .svo file (magic is 'XVOCTRE\\x00', expected 'SVOCTREE')");
-  // Version 1 stored (B + 1)^3 samples per brick; this build reads versions 2 and 3.
+  // Version 1 stored (B + 1)^3 samples per brick; this build reads versions 2 to 4.
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 1); },
-                         "unsupported version 1 (this build reads versions 2 and 3)");
-  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 4); }, "unsupported version 4");
+                         "unsupported version 1 (this build reads versions 2 to 4)");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 5); }, "unsupported version 5");
+  // Relabelled 4, its channel table is read as the detail and material blocks.
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 4); }, "material block of");
   // A version-2 file relabelled 3 lacks the detail block its channel table must follow.
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 3); },
                          "channel table offset 128 overlaps the previous section, which ends at 192");
@@ -292,6 +294,73 @@ TEST_F(SvoCorrupt, DetailBlockValues) {
   forged(20, f32(INFINITY), "detail colour_slope[0] is inf");
   std::vector<uint8_t> truncated(good.begin(), good.begin() + 150);
   expect_rejected(truncated, "truncated: detail block needs 64 bytes at offset 128, file has 150");
+}
+
+}  // namespace svo::octree
+
+namespace svo::octree {
+
+// Version 4: the material block and the material channel round-trip, and
+// every count and length in the block is checked.
+TEST_F(SvoCorrupt, MaterialBlock) {
+  Octree tree = testing::make_test_tree(9);
+  tree.materials = {R"({"brdf": "lambert"})", R"({"brdf": "ggx", "roughness": 0.3})", R"({"brdf": "phong"})"};
+  tree.channels.push_back({Channel::Material, Encoding::MaterialShare8});
+  tree.brick_data.emplace_back(tree.pool_samples() * 2);
+  for (uint64_t b = 0; b < tree.brick_count; ++b) {
+    for (uint32_t s = 0; s < tree.samples_per_brick(); ++s) {
+      Voxel v = decode_voxel(tree, b, s, 0);
+      v.material = uint32_t((b + s) % 3);
+      v.material_share = float(s % 5) / 4.0f;
+      encode_voxel(tree, b, s, 0, v);
+    }
+  }
+  write_svo(dir_ / "materials.svo", tree);
+  const std::vector<uint8_t> good = testing::read_bytes(dir_ / "materials.svo");
+  ASSERT_EQ(format::decode_header(good.data()).version, 4u);
+  const Octree back = load_svo(dir_ / "materials.svo");
+  EXPECT_EQ(back.materials, tree.materials);
+  EXPECT_EQ(back.brick_data, tree.brick_data);
+  const Voxel v = decode_voxel(back, 2, 7, 0);
+  EXPECT_EQ(v.material, (2u + 7u) % 3u);
+  EXPECT_NEAR(v.material_share, float(7 % 5) / 4.0f, 0.51f / 255.0f);
+  // The block starts after the (empty) detail block at 128 + 64.
+  const size_t block = format::kHeaderBytes + format::kDetailBytes;
+  auto forged = [&](size_t offset, uint32_t value, const std::string& what) {
+    std::vector<uint8_t> bytes = good;
+    put_u32(bytes.data() + block + offset, value);
+    format::seal(bytes);
+    expect_rejected(bytes, what);
+  };
+  forged(0, 0, "material count is 0 (must be in [1, 255])");
+  forged(0, 256, "material count is 256");
+  forged(0, 2, "bytes after the last material");
+  forged(0, 4, "material 3 starts past the block's end");
+  forged(4, 8, "does not fit 3 materials");
+  forged(4, 0xFFFFFFF0u, "does not fit 3 materials");
+  forged(8, 0xFFFFFFFFu, "material 0 has 4294967295 bytes (must be in [1, 65536])");
+  forged(8, 1000, "material 0 has 1000 bytes, past the block's end");
+  forged(8, 0, "material 0 has 0 bytes (must be in [1, 65536])");
+  {
+    std::vector<uint8_t> bytes = good;
+    bytes[block + 12 + 3] = 0;
+    format::seal(bytes);
+    expect_rejected(bytes, "material 0 holds a NUL byte");
+  }
+  std::vector<uint8_t> truncated(good.begin(), good.begin() + block + 4);
+  expect_rejected(truncated, "truncated: material block needs 8 bytes at offset 192");
+  // A material channel needs a choice of materials.
+  Octree one = tree;
+  one.materials.resize(1);
+  EXPECT_THROW(write_svo(dir_ / "one.svo", one), std::invalid_argument);
+  one.materials.clear();
+  EXPECT_THROW(write_svo(dir_ / "one.svo", one), std::invalid_argument);
+  // One material without the channel: version 4 all the same.
+  one.channels.pop_back();
+  one.brick_data.pop_back();
+  one.materials = {R"({"brdf": "lambert"})"};
+  write_svo(dir_ / "one.svo", one);
+  EXPECT_EQ(load_svo(dir_ / "one.svo").materials, one.materials);
 }
 
 }  // namespace svo::octree

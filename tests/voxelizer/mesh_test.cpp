@@ -253,3 +253,72 @@ TEST(Mesh, MaterialRoughnessFromTheObjMaterial) {
 }
 
 }  // namespace
+
+namespace {
+
+// A scene file places meshes and gives each face its object's material.
+TEST(SceneFile, PlacesMeshesAndGivesEachFaceItsMaterial) {
+  const std::string cube = write_file("scene_cube.off", cube_off());
+  const std::string scene = write_file("scene.json", R"({
+    "materials": {"b-gold": {"brdf": "ggx", "f0": [1, 0.8, 0.3]}, "a-merl": {"brdf": "merl", "file": "x.binary"}},
+    "objects": [
+      {"mesh": "scene_cube.off", "material": "b-gold", "scale": [2, 1, 1], "translate": [10, 0, 0]},
+      {"mesh": ")" + cube + R"(", "material": "a-merl", "rotate": [0, 90, 0], "colour": [0.2, 0.4, 0.6]}
+    ]})");
+  const voxelizer::TriangleMesh mesh = voxelizer::read_scene_file(scene);
+  ASSERT_EQ(mesh.triangles.size(), 24u);
+  ASSERT_EQ(mesh.face_material.size(), 24u);
+  // Materials in the order of their names: a-merl 0, b-gold 1.
+  ASSERT_EQ(mesh.materials.size(), 2u);
+  EXPECT_NE(mesh.materials[0].find((temp_dir() / "x.binary").string()), std::string::npos) << mesh.materials[0];
+  EXPECT_NE(mesh.materials[1].find("ggx"), std::string::npos);
+  for (size_t f = 0; f < 24; ++f) {
+    EXPECT_EQ(mesh.face_material[f], f < 12 ? 1u : 0u);
+    // Faces still face outwards from their object's centre.
+    const glm::ivec3 t = mesh.triangles[f];
+    const glm::dvec3 centre = (mesh.positions[t.x] + mesh.positions[t.y] + mesh.positions[t.z]) / 3.0;
+    const glm::dvec3 object = f < 12 ? glm::dvec3(10, 0, 0) : glm::dvec3(0);
+    EXPECT_GT(glm::dot(glm::dvec3(mesh.face_normals[f]), centre - object), 0) << f;
+  }
+  EXPECT_NEAR(mesh.bounds.lo.x, -0.5, 1e-6);
+  EXPECT_NEAR(mesh.bounds.hi.x, 11.0, 1e-6);
+  EXPECT_NEAR(mesh.area, 10.0 + 6.0, 1e-9);  // the stretched cube 2 x 1 x 1, then the unit cube
+  EXPECT_NEAR(mesh.colours.back().z, 0.6f, 1e-6f);
+  // A voxelized scene carries the materials and which one each voxel shows.
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  const octree::Octree tree = voxelizer::voxelize(*voxelizer::mesh_source(mesh), options);
+  EXPECT_EQ(tree.materials, mesh.materials);
+  EXPECT_GE(tree.channel_index(octree::Channel::Material), 0);
+}
+
+TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
+  const std::string cube = write_file("scene_cube.off", cube_off());
+  auto expect_error = [](const std::string& json, const std::string& what) {
+    const std::string path = write_file("bad_scene.json", json);
+    try {
+      voxelizer::read_scene_file(path);
+      ADD_FAILURE() << "accepted " << json;
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("scene file " + path, 0), 0u) << message;
+      EXPECT_NE(message.find(what), std::string::npos) << "expected '" << what << "' in: " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off"}], "lights": 1})", "unknown key 'lights'");
+  expect_error(R"({"objects": []})", "key 'objects': expected a non-empty array");
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off", "material": "x"}]})", "no material named 'x'");
+  expect_error(R"({"materials": {"a": {"brdf": "lambert"}, "b": {"brdf": "ggx"}},
+                   "objects": [{"mesh": "scene_cube.off"}]})",
+               "object 0: key 'material': missing (the scene has 2 materials)");
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off", "scale": 0}]})", "key 'scale': must be > 0");
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off", "rotate": [1, 2]}]})", "key 'rotate': expected [x, y, z]");
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off", "spin": 2}]})", "unknown key 'spin'");
+  expect_error(R"({"materials": {"a": "missing.json"}, "objects": [{"mesh": "scene_cube.off"}]})",
+               "material 'a': cannot open");
+  expect_error(R"({"materials": {"a": "/dev/zero"}, "objects": [{"mesh": "scene_cube.off"}]})", "not a regular file");
+  expect_error("{\"objects\": [", "not JSON");
+}
+
+}  // namespace

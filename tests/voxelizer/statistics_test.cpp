@@ -248,3 +248,50 @@ TEST(Statistics, VoxelizedSceneRoundTripsThroughTheFile) {
 }
 
 }  // namespace
+
+namespace {
+
+// The dominant material by covered area (samples are uniform in area) and
+// its share; ties go to the lower index.
+TEST(Statistics, DominantMaterialAndItsShare) {
+  std::vector<voxelizer::SurfaceSample> samples;
+  for (uint32_t m : {3u, 1u, 3u, 3u, 2u, 1u, 3u, 3u}) {
+    samples.push_back({glm::vec3(0.01f * float(samples.size()), 0, 0), glm::vec3(0, 0, 1), glm::vec3(0.5f), m});
+  }
+  std::vector<uint32_t> all{0, 1, 2, 3, 4, 5, 6, 7};
+  octree::Voxel v = voxelizer::surface_statistics(samples, all, glm::vec3(0));
+  EXPECT_EQ(v.material, 3u);
+  EXPECT_FLOAT_EQ(v.material_share, 5.0f / 8.0f);
+  std::vector<uint32_t> tie{1, 4, 0, 5};  // materials 1, 2, 3, 1: 1 leads
+  v = voxelizer::surface_statistics(samples, tie, glm::vec3(0));
+  EXPECT_EQ(v.material, 1u);
+  EXPECT_FLOAT_EQ(v.material_share, 0.5f);
+  std::vector<uint32_t> even{1, 4};  // materials 1 and 2, one each: the lower index
+  v = voxelizer::surface_statistics(samples, even, glm::vec3(0));
+  EXPECT_EQ(v.material, 1u);
+  EXPECT_FLOAT_EQ(v.material_share, 0.5f);
+}
+
+// The built-in scene with five materials: the octree carries them, and at
+// the finest level each sphere's voxels name its material, whole.
+TEST(Statistics, MaterialSpheresCarryTheirMaterials) {
+  auto scene = voxelizer::make_scene("material-spheres");
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  const octree::Octree tree = voxelizer::voxelize(*scene, options);
+  ASSERT_EQ(tree.materials, scene->materials());
+  ASSERT_EQ(tree.materials.size(), 5u);
+  ASSERT_GE(tree.channel_index(octree::Channel::Material), 0);
+  const uint32_t finest = tree.depth_count - 1;
+  for (int i = 0; i < 3; ++i) {
+    // The top of sphere i (centre (0.75 (i - 1), 0.27, 0), radius 0.3).
+    const glm::vec3 top(0.75f * float(i - 1), 0.57f, 0.0f);
+    const glm::ivec3 p = glm::ivec3(glm::round((top - tree.origin) / tree.voxel_size(finest)));
+    const auto v = octree::lattice_voxel(tree, finest, p);
+    ASSERT_TRUE(v.has_value()) << i;
+    EXPECT_EQ(v->material, uint32_t(2 + i));
+    EXPECT_FLOAT_EQ(v->material_share, 1.0f);
+  }
+}
+
+}  // namespace

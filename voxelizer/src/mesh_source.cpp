@@ -55,6 +55,7 @@ class MeshSource : public SurfaceSource {
   Box bounds() const override { return mesh_.bounds; }
   float sigma_rho2() const override { return mesh_.sigma_rho2; }
   double surface_area() const override { return mesh_.area; }
+  std::vector<std::string> materials() const override { return mesh_.materials; }
   // Narrow band of 3 voxels each side, float distance + int32 polygon index, tree overhead.
   double bytes_per_sample() const override { return 6 * (4 + 4) * 1.5; }
 
@@ -129,6 +130,7 @@ class MeshSource : public SurfaceSource {
             // vertex normals would bend flat faces next to sharp edges.
             point.normal = mesh_.face_normals[size_t(tri)];
             point.colour = mesh_.colour(size_t(tri), bary);
+            point.material = mesh_.face_material.empty() ? 0u : mesh_.face_material[size_t(tri)];
             if (!point.near) point.distance = d < 0 ? -band : band;
           } else {
             float magnitude = std::max(std::abs(d), band);
@@ -151,5 +153,7 @@ class MeshSource : public SurfaceSource {
 std::unique_ptr<SurfaceSource> load_mesh(const std::string& path, const MeshOptions& options) {
   return std::make_unique<MeshSource>(read_mesh(path, options));
 }
+
+std::unique_ptr<SurfaceSource> mesh_source(TriangleMesh mesh) { return std::make_unique<MeshSource>(std::move(mesh)); }
 
 }  // namespace svo::voxelizer

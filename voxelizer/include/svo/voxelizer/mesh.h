@@ -55,6 +55,8 @@ struct TriangleMesh {
   std::vector<int> face_texture;                  // index into textures, or -1
   std::vector<std::array<glm::vec2, 3>> face_uv;  // texture coordinates of the corners
   std::vector<Texture> textures;
+  std::vector<uint32_t> face_material;  // index into materials per triangle; empty: material 0 everywhere
+  std::vector<std::string> materials;   // JSON texts (DESIGN 10.2); empty: none of its own
   size_t degenerate = 0;         // faces skipped for zero area
   size_t open_edges = 0;         // edges of exactly one kept triangle (0: closed)
   size_t nonmanifold_edges = 0;  // edges of three or more kept triangles
@@ -117,5 +119,22 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options = {})
 // Loads a mesh as a surface source (read_mesh, then OpenVDB's level set in
 // prepare()). The file is untrusted: throws what read_mesh throws.
 std::unique_ptr<SurfaceSource> load_mesh(const std::string& path, const MeshOptions& options = {});
+// A mesh already read (read_mesh, read_scene_file) as a surface source, its
+// materials and face materials included.
+std::unique_ptr<SurfaceSource> mesh_source(TriangleMesh mesh);
+
+// Reads a scene file (`svo voxelize --scene-file`, docs/materials.md): a JSON
+// object {"materials": {NAME: MATERIAL or "FILE.json", ...}, "objects":
+// [{"mesh": FILE, "material": NAME, "scale": s or [x, y, z], "rotate":
+// [x, y, z] degrees, "translate": [x, y, z], "colour": [r, g, b]}, ...]},
+// paths relative to the scene file. Each mesh is read by read_mesh, placed by
+// translate * Rz * Ry * Rx * scale, and merged, each face keeping its
+// object's material (face_material, in the order of the materials' names;
+// a MERL "file" made absolute). Materials are not parsed here (the
+// renderer's parse_material does that); the scene's structure is: unknown
+// keys, a missing or unknown material name, a scale <= 0, a file that is
+// not regular or above 1 MiB, more than 255 materials or 1024 objects are
+// std::runtime_error "scene file PATH: ..." (one line).
+TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options = {});
 
 }  // namespace svo::voxelizer
