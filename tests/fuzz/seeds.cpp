@@ -106,7 +106,13 @@ int write_seeds(const fs::path& dir) {
     octree::write_svo((d / "test_tree.svo").string(), octree::testing::make_test_tree(1));
     octree::write_svo((d / "tiny.svo").string(), octree::testing::make_tiny_tree());
     put(d / "version1.svo", octree::testing::tiny_version1_file());
-    count += 3;
+    // Version 4: a material block and a material channel.
+    octree::Octree materials = octree::testing::make_tiny_tree();
+    materials.materials = {R"({"brdf": "lambert"})", R"({"brdf": "ggx", "roughness": 0.3})"};
+    materials.channels.push_back({octree::Channel::Material, octree::Encoding::MaterialShare8});
+    materials.brick_data.emplace_back(materials.pool_samples() * 2, uint8_t(1));
+    octree::write_svo((d / "materials.svo").string(), materials);
+    count += 4;
   }
   // Parsed meshes: a closed cube, the same with colours, uv and textures, an open square.
   {

@@ -58,6 +58,25 @@ TEST(ReferenceLighting, AWhiteFurnaceIsOneOnEveryPixel) {
   EXPECT_LT(worst, 0.01);
 }
 
+// The forward pass (native) on `tree` against the reference on the exact
+// `geometry`, both at 1024 samples per pixel, with settings `s`; prints and
+// saves both images as `name`.
+ImageErrors forward_against_reference(const octree::Octree& tree, const Geometry& geometry,
+                                      const render::RenderSettings& s, const std::string& name) {
+  render::NativeRenderer renderer(tree);
+  renderer.add_pass(render::make_pass("forward"));
+  const render::Frame frame = renderer.render(s);
+  ReferenceSettings rs;
+  rs.render = s;
+  rs.spp = 1024;
+  const render::Frame truth = render_reference(geometry, rs);
+  const ImageErrors e = compare_images(render::frame_image(frame), render::frame_image(truth));
+  std::printf("%s: relMSE %.5f, RMSE %.5f, max %.4f\n", name.c_str(), e.relmse, e.rmse, e.max_error);
+  test::save_for_inspection(frame, "lighting_forward_" + name);
+  test::save_for_inspection(truth, "lighting_reference_" + name);
+  return e;
+}
+
 // The forward pass on the octree of `source` (at `resolution`^3) against the
 // reference on the exact `geometry`, seen by `camera` at 64x48 pixels, 1024
 // samples per pixel each: relMSE below `bound`, for a glossy and a diffuse
@@ -73,19 +92,8 @@ void expect_converges(const std::string& name, voxelizer::SurfaceSource& source,
     s.width = 64;
     s.height = 48;
     s.camera = camera ? *camera : render::view_preset(tree, "mid", 64.0f / 48.0f);
-    render::NativeRenderer renderer(tree);
-    renderer.add_pass(render::make_pass("forward"));
-    const render::Frame frame = renderer.render(s);
-    ReferenceSettings rs;
-    rs.render = s;
-    rs.spp = 1024;
-    const render::Frame truth = render_reference(geometry, rs);
-    const ImageErrors e = compare_images(render::frame_image(frame), render::frame_image(truth));
-    const std::string what = name + " " + render::brdf_name(material->kind);
-    std::printf("%s: relMSE %.5f, RMSE %.5f, max %.4f\n", what.c_str(), e.relmse, e.rmse, e.max_error);
-    test::save_for_inspection(frame, "lighting_forward_" + name + "_" + render::brdf_name(material->kind));
-    test::save_for_inspection(truth, "lighting_reference_" + name + "_" + render::brdf_name(material->kind));
-    EXPECT_LT(e.relmse, bound) << what;
+    const std::string what = name + "_" + render::brdf_name(material->kind);
+    EXPECT_LT(forward_against_reference(tree, geometry, s, what).relmse, bound) << what;
   }
 }
 
@@ -167,18 +175,7 @@ TEST(ReferenceLighting, TheForwardPassConvergesToTheReferenceWithSeveralMaterial
   s.width = 72;
   s.height = 48;
   s.camera = material_spheres_camera();
-  render::NativeRenderer renderer(tree);
-  renderer.add_pass(render::make_pass("forward"));
-  const render::Frame frame = renderer.render(s);
-  ReferenceSettings rs;
-  rs.render = s;
-  rs.spp = 1024;
-  const render::Frame truth = render_reference(*geometry, rs);
-  const ImageErrors e = compare_images(render::frame_image(frame), render::frame_image(truth));
-  std::printf("material-spheres: relMSE %.5f, RMSE %.5f, max %.4f\n", e.relmse, e.rmse, e.max_error);
-  test::save_for_inspection(frame, "lighting_forward_material_spheres");
-  test::save_for_inspection(truth, "lighting_reference_material_spheres");
-  EXPECT_LT(e.relmse, 0.01);
+  EXPECT_LT(forward_against_reference(tree, *geometry, s, "material_spheres").relmse, 0.01);
 }
 
 }  // namespace
