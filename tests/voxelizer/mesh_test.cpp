@@ -311,7 +311,7 @@ TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
   expect_error(R"({"objects": [{"mesh": "scene_cube.off", "material": "x"}]})", "no material named 'x'");
   expect_error(R"({"materials": {"a": {"brdf": "lambert"}, "b": {"brdf": "ggx"}},
                    "objects": [{"mesh": "scene_cube.off"}]})",
-               "object 0: key 'material': missing (the scene has 2 materials)");
+               "object 0: key 'material': missing (the scene has 2 materials and");
   expect_error(R"({"objects": [{"mesh": "scene_cube.off", "scale": 0}]})", "key 'scale': must be > 0");
   expect_error(R"({"objects": [{"mesh": "scene_cube.off", "rotate": [1, 2]}]})", "key 'rotate': expected [x, y, z]");
   expect_error(R"({"objects": [{"mesh": "scene_cube.off", "spin": 2}]})", "unknown key 'spin'");
@@ -319,6 +319,51 @@ TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
                "material 'a': cannot open");
   expect_error(R"({"materials": {"a": "/dev/zero"}, "objects": [{"mesh": "scene_cube.off"}]})", "not a regular file");
   expect_error("{\"objects\": [", "not JSON");
+}
+
+}  // namespace
+
+namespace {
+
+// OBJ usemtl groups become materials (from their MTL entries), a face
+// keeping its group's, polygons split into triangles in file order.
+TEST(Mesh, UsemtlGroupsBecomeMaterials) {
+  write_file("groups.mtl",
+             "newmtl shiny\nKd 0.5 0.25 1\nKs 0.9 0.9 0.9\nNs 250\n"
+             "newmtl rough\nKd 0.2 0.2 0.2\nPr 0.4\n");
+  std::string obj = "mtllib groups.mtl\n";
+  for (auto& c : kCorners) obj += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  // The first face before any usemtl, then four quads (two triangles each) of shiny, then the rest.
+  obj += "f 1 3 2\nusemtl shiny\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nusemtl rough\nf 1 4 3\nf 1 5 8\nf 1 8 4\n";
+  const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(write_file("groups.obj", obj));
+  ASSERT_EQ(mesh.triangles.size(), 12u);
+  ASSERT_EQ(mesh.materials.size(), 3u);
+  EXPECT_NE(mesh.materials[0].find("\"default\""), std::string::npos) << mesh.materials[0];
+  EXPECT_NE(mesh.materials[1].find("\"phong\""), std::string::npos) << mesh.materials[1];
+  EXPECT_NE(mesh.materials[1].find("250"), std::string::npos) << mesh.materials[1];
+  EXPECT_NE(mesh.materials[2].find("\"ggx\""), std::string::npos) << mesh.materials[2];
+  const std::vector<uint32_t> expected{0, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2};
+  EXPECT_EQ(mesh.face_material, expected);
+  // A scene file object without a material keeps the mesh's own.
+  write_file("scene_cube.off", cube_off());
+  const voxelizer::TriangleMesh scene = voxelizer::read_scene_file(write_file(
+      "groups_scene.json", R"({"materials": {"a": {"brdf": "lambert"}},
+        "objects": [{"mesh": "scene_cube.off", "material": "a"}, {"mesh": "groups.obj", "translate": [3, 0, 0]}]})"));
+  ASSERT_EQ(scene.materials.size(), 4u);
+  ASSERT_EQ(scene.face_material.size(), 24u);
+  EXPECT_EQ(scene.face_material[0], 0u);
+  EXPECT_EQ(scene.face_material[12], 1u);
+  EXPECT_EQ(scene.face_material[23], 3u);
+}
+
+// mtllib naming something that is not a small regular file is not read (a
+// FIFO or /dev/zero would hang or eat memory).
+TEST(Mesh, MtllibNamingADeviceIsNotRead) {
+  std::string obj = "mtllib /dev/zero\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n";
+  obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" + obj;
+  const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(write_file("devzero.obj", obj));
+  ASSERT_EQ(mesh.materials.size(), 2u);
+  EXPECT_NE(mesh.materials[0].find("lambert"), std::string::npos);
 }
 
 }  // namespace

@@ -302,45 +302,148 @@ std::string screen_mesh_file(const std::string& path) {
   return "";
 }
 
-// Slope variance of the OBJ's materials (the mean over the materials of its
-// mtllib files): PBR roughness "Pr" alpha gives sigma^2 = alpha^2 / 2, a
-// Phong exponent "Ns" the Beckmann equivalent sigma^2 = 1 / (Ns + 2).
-// Returns a negative value when the file names no such material.
-float obj_material_slope_variance(const std::string& path) {
+// An OBJ material as its MTL file gives it (the keys we read; < 0: absent).
+struct MtlMaterial {
+  glm::vec3 kd{-1}, ks{-1};
+  double ns = -1, pr = -1;
+};
+
+// The lines of a small regular file, or none: mtllib names what a hostile
+// OBJ wants (a FIFO or /dev/zero would hang or eat memory).
+std::vector<std::string> small_file_lines(const std::filesystem::path& file, uintmax_t limit) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error) || std::filesystem::file_size(file, error) > limit || error) {
+    return {};
+  }
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The materials of the OBJ's mtllib files (regular files of at most 16 MiB,
+// relative to the OBJ), by name.
+std::map<std::string, MtlMaterial> read_mtl_materials(const std::string& path) {
   namespace fs = std::filesystem;
-  std::ifstream obj(path);
-  std::string line;
-  double sum = 0;
-  int count = 0;
-  while (std::getline(obj, line)) {
+  constexpr uintmax_t kMaxMtlBytes = 16u << 20;
+  std::map<std::string, MtlMaterial> out;
+  for (const std::string& line : small_file_lines(path, std::numeric_limits<uintmax_t>::max())) {
     if (line.rfind("mtllib", 0) != 0) continue;
     std::istringstream names(line.substr(6));
-    std::string name;
-    while (names >> name) {
-      std::ifstream mtl(fs::path(path).parent_path() / name);
-      std::string m;
-      double pr = -1, ns = -1;
-      bool in_material = false;
-      auto flush = [&] {
-        if (!in_material) return;
-        if (pr >= 0)
-          sum += pr * pr / 2, ++count;
-        else if (ns >= 0)
-          sum += 1.0 / (ns + 2.0), ++count;
-        pr = ns = -1;
-      };
-      while (std::getline(mtl, m)) {
-        std::istringstream in(m);
+    for (std::string name; names >> name;) {
+      MtlMaterial* m = nullptr;
+      for (const std::string& entry : small_file_lines(fs::path(path).parent_path() / name, kMaxMtlBytes)) {
+        std::istringstream in(entry);
         std::string key;
         in >> key;
-        if (key == "newmtl") flush(), in_material = true;
-        if (key == "Pr") in >> pr;
-        if (key == "Ns") in >> ns;
+        if (key == "newmtl") {
+          std::string material;
+          in >> material;
+          m = &out[material];
+        }
+        if (!m) continue;
+        auto rgb = [&](glm::vec3& c) {
+          glm::vec3 v;
+          if (in >> v.x >> v.y >> v.z && std::isfinite(v.x + v.y + v.z)) c = glm::clamp(v, 0.0f, 1.0f);
+        };
+        auto number = [&](double& x) {
+          double v;
+          if (in >> v && std::isfinite(v) && v >= 0) x = v;
+        };
+        if (key == "Kd") rgb(m->kd);
+        if (key == "Ks") rgb(m->ks);
+        if (key == "Ns") number(m->ns);
+        if (key == "Pr") number(m->pr);
       }
-      flush();
+    }
+  }
+  return out;
+}
+
+// Slope variance of the OBJ's materials (the mean over its materials):
+// PBR roughness "Pr" alpha gives sigma^2 = alpha^2 / 2, a Phong exponent
+// "Ns" the Beckmann equivalent sigma^2 = 1 / (Ns + 2). Returns a negative
+// value when the file names no such material.
+float obj_material_slope_variance(const std::map<std::string, MtlMaterial>& materials) {
+  double sum = 0;
+  int count = 0;
+  for (const auto& [name, m] : materials) {
+    if (m.pr >= 0) {
+      sum += m.pr * m.pr / 2, ++count;
+    } else if (m.ns >= 0) {
+      sum += 1.0 / (m.ns + 2.0), ++count;
     }
   }
   return count ? float(sum / count) : -1.0f;
+}
+
+// An MTL material as our material JSON (docs/materials.md): GGX of
+// roughness Pr where it has one, the Phong NDF of exponent Ns where it has
+// a specular colour Ks, else Lambert; Kd the diffuse albedo (default 1: the
+// mesh's colour or texture tints it already).
+std::string mtl_material_json(const std::string& name, const MtlMaterial& m) {
+  std::ostringstream j;
+  auto rgb = [](glm::vec3 c) {
+    std::ostringstream s;
+    s << "[" << c.x << ", " << c.y << ", " << c.z << "]";
+    return s.str();
+  };
+  std::string escaped;
+  for (char c : name) {
+    if (c == '"' || c == '\\') escaped += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) escaped += c;
+  }
+  j << "{\"name\": \"" << escaped << "\", ";
+  const glm::vec3 diffuse = m.kd.x >= 0 ? m.kd : glm::vec3(1);
+  const glm::vec3 f0 = m.ks.x >= 0 ? m.ks : glm::vec3(0.04f);
+  if (m.pr >= 0) {
+    j << "\"brdf\": \"ggx\", \"roughness\": " << std::clamp(m.pr, 0.002, 4.0) << ", \"f0\": " << rgb(f0) << ", ";
+  } else if (m.ks.x >= 0 && m.ks != glm::vec3(0) && m.ns >= 0) {
+    j << "\"brdf\": \"phong\", \"exponent\": " << std::min(m.ns, 1e6) << ", \"f0\": " << rgb(f0) << ", ";
+  } else {
+    j << "\"brdf\": \"lambert\", ";
+  }
+  j << "\"diffuse\": " << rgb(diffuse) << "}";
+  return j.str();
+}
+
+// The OBJ's usemtl name of each triangle OpenMesh makes (a face of n corners
+// becomes n - 2 triangles, in file order): names in order of first use ("default" before
+// any usemtl), and per triangle an index into them.
+struct ObjGroups {
+  std::vector<std::string> names;
+  std::vector<uint32_t> triangle_group;
+};
+ObjGroups obj_groups(const std::string& path) {
+  ObjGroups g;
+  uint32_t current = 0;
+  bool named = false;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string keyword;
+    if (!(words >> keyword)) continue;
+    if (keyword == "usemtl") {
+      std::string name;
+      words >> name;
+      auto it = std::find(g.names.begin(), g.names.end(), name);
+      current = uint32_t(it - g.names.begin());
+      if (it == g.names.end()) g.names.push_back(name);
+      named = true;
+      continue;
+    }
+    if (keyword != "f") continue;
+    int corners = 0;
+    for (std::string t; words >> t && t[0] != '#';) ++corners;
+    if (!named) {
+      g.names.insert(g.names.begin(), "default");
+      for (auto& t : g.triangle_group) ++t;
+      current = 0;
+      named = true;
+    }
+    for (int k = 2; k < corners; ++k) g.triangle_group.push_back(current);
+  }
+  return g;
 }
 
 }  // namespace
@@ -484,8 +587,27 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
     arrays.face_uv.push_back(uv);
     arrays.face_texture.push_back(texture);
   }
+  // OBJ usemtl groups: a material per group, from its MTL entry, when there
+  // are two or more and OpenMesh kept every triangle in file order.
+  const bool obj = lower_extension(path) == ".obj";
+  const std::map<std::string, MtlMaterial> mtl = obj ? read_mtl_materials(path) : std::map<std::string, MtlMaterial>{};
+  if (obj) {
+    const ObjGroups groups = obj_groups(path);
+    if (groups.names.size() > 1 && groups.triangle_group.size() == mesh.n_faces() &&
+        arrays.triangles.size() == mesh.n_faces()) {
+      arrays.face_material = groups.triangle_group;
+      for (const std::string& name : groups.names) {
+        auto it = mtl.find(name);
+        arrays.materials.push_back(mtl_material_json(name, it != mtl.end() ? it->second : MtlMaterial{}));
+      }
+    } else if (groups.names.size() > 1 && options.warning) {
+      options.warning(path + ": " + std::to_string(groups.names.size()) +
+                      " usemtl groups not used as materials (OpenMesh kept " + std::to_string(mesh.n_faces()) +
+                      " of " + std::to_string(groups.triangle_group.size()) + " triangles)");
+    }
+  }
   TriangleMesh out = make_triangle_mesh(path, std::move(arrays), options);
-  float material = std::filesystem::path(path).extension() == ".obj" ? obj_material_slope_variance(path) : -1.0f;
+  const float material = obj_material_slope_variance(mtl);
   if (options.sigma_rho < 0 && material >= 0) out.sigma_rho2 = material;
   return out;
 }
@@ -502,6 +624,8 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
   check_count(in.colours.size(), n, "vertex colours", "vertices");
   check_count(in.face_uv.size(), m, "face texture coordinates", "triangles");
   check_count(in.face_texture.size(), m, "face texture indices", "triangles");
+  check_count(in.face_material.size(), m, "face materials", "triangles");
+  if (in.materials.size() > 255) fail(std::to_string(in.materials.size()) + " materials (at most 255)");
   for (size_t i = 0; i < n; ++i) {
     const glm::dvec3& q = in.positions[i];
     for (int k = 0; k < 3; ++k) {
@@ -526,6 +650,7 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
   out.colours = std::move(in.colours);
   if (out.colours.empty()) out.colours.assign(n, options.colour.value_or(glm::vec3(0.8f)));
   out.textures = std::move(in.textures);
+  out.materials = std::move(in.materials);
   out.sigma_rho2 = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : 0.01f;
   std::vector<std::pair<int, int>> edges;  // (low, high) corner pairs of the kept triangles
   edges.reserve(3 * m);
@@ -569,6 +694,13 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     out.face_normals.push_back(glm::vec3(direction / glm::length(direction)));
     out.face_texture.push_back(texture);
     out.face_uv.push_back(uv);
+    if (!in.face_material.empty()) {
+      if (in.face_material[f] >= out.materials.size()) {
+        fail("face " + std::to_string(f) + " has material " + std::to_string(in.face_material[f]) +
+             ", but the mesh has " + std::to_string(out.materials.size()) + " materials");
+      }
+      out.face_material.push_back(in.face_material[f]);
+    }
     out.area += 0.5 * twice_area;
     for (int k = 0; k < 3; ++k) {
       int u = t[k], v = t[(k + 1) % 3];

@@ -74,8 +74,15 @@ glm::dvec3 vec3_of(const json& v, const std::string& where, const std::string& k
 }
 
 // Appends `part`, its positions moved by `m` (its faces turned over when m
-// mirrors), each face given `material`.
+// mirrors), each face given `material`, or its own (appended to out's
+// materials) when `material` is kOwn.
+constexpr uint32_t kOwn = 0xFFFFFFFFu;
 void append(TriangleMesh& out, TriangleMesh part, const glm::dmat4& m, uint32_t material) {
+  const uint32_t own = uint32_t(out.materials.size());
+  if (material == kOwn) {
+    out.materials.insert(out.materials.end(), part.materials.begin(), part.materials.end());
+    if (part.face_material.empty()) part.face_material.assign(part.triangles.size(), 0);
+  }
   const bool mirror = glm::determinant(glm::dmat3(m)) < 0;
   const int base = int(out.positions.size());
   const int textures = int(out.textures.size());
@@ -96,7 +103,7 @@ void append(TriangleMesh& out, TriangleMesh part, const glm::dmat4& m, uint32_t 
     out.face_normals.push_back(glm::vec3(cross / twice_area));
     out.face_texture.push_back(part.face_texture[f] >= 0 ? part.face_texture[f] + textures : -1);
     out.face_uv.push_back(uv);
-    out.face_material.push_back(material);
+    out.face_material.push_back(material == kOwn ? own + part.face_material[f] : material);
     out.area += 0.5 * twice_area;
   }
   for (auto& t : part.textures) out.textures.push_back(std::move(t));
@@ -148,6 +155,7 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     throw std::runtime_error(where + ": key 'objects': " + std::to_string(objects->size()) + " objects (at most " +
                              std::to_string(kMaxObjects) + ")");
   }
+  int without = -1;  // an object with no material at all (the renderer's default)
   for (size_t i = 0; i < objects->size(); ++i) {
     const json& o = (*objects)[i];
     const std::string at = where + ": object " + std::to_string(i);
@@ -161,6 +169,10 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     }
     if (!o.contains("mesh") || !o["mesh"].is_string()) throw std::runtime_error(at + ": key 'mesh': expected a path");
     uint32_t material = 0;
+    const fs::path mesh_path = fs::path(o["mesh"].get<std::string>()).is_relative()
+                                   ? folder / o["mesh"].get<std::string>()
+                                   : fs::path(o["mesh"].get<std::string>());
+    TriangleMesh part;
     if (o.contains("material")) {
       if (!o["material"].is_string()) throw std::runtime_error(at + ": key 'material': expected a material's name");
       const std::string name = o["material"].get<std::string>();
@@ -169,17 +181,14 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
         throw std::runtime_error(at + ": key 'material': no material named '" + name + "' in 'materials'");
       }
       material = uint32_t(found - names.begin());
-    } else if (names.size() > 1) {
-      throw std::runtime_error(at + ": key 'material': missing (the scene has " + std::to_string(names.size()) +
-                               " materials)");
     }
+    MeshOptions mesh_options = options;
     const glm::dvec3 scale = o.contains("scale") ? vec3_of(o["scale"], at, "scale") : glm::dvec3(1);
     if (!(scale.x > 0 && scale.y > 0 && scale.z > 0)) {
       throw std::runtime_error(at + ": key 'scale': must be > 0 (a mirror is a rotation away)");
     }
     const glm::dvec3 rotate = o.contains("rotate") ? vec3_of(o["rotate"], at, "rotate") : glm::dvec3(0);
     const glm::dvec3 translate = o.contains("translate") ? vec3_of(o["translate"], at, "translate") : glm::dvec3(0);
-    MeshOptions mesh_options = options;
     if (o.contains("colour")) {
       const glm::dvec3 c = vec3_of(o["colour"], at, "colour");
       if (!(c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x <= 1 && c.y <= 1 && c.z <= 1)) {
@@ -193,9 +202,19 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     m = glm::rotate(m, glm::radians(rotate.y), glm::dvec3(0, 1, 0));
     m = glm::rotate(m, glm::radians(rotate.x), glm::dvec3(1, 0, 0));
     m = glm::scale(m, scale);
-    fs::path mesh = o["mesh"].get<std::string>();
-    if (mesh.is_relative()) mesh = folder / mesh;
-    append(out, read_mesh(mesh.string(), mesh_options), m, material);
+    part = read_mesh(mesh_path.string(), mesh_options);
+    if (!o.contains("material")) {
+      // The mesh's own materials (OBJ usemtl groups), else the scene's only one.
+      if (!part.materials.empty()) {
+        material = kOwn;
+      } else if (names.size() > 1) {
+        throw std::runtime_error(at + ": key 'material': missing (the scene has " + std::to_string(names.size()) +
+                                 " materials and " + mesh_path.string() + " has none of its own)");
+      } else if (names.empty()) {
+        without = int(i);
+      }
+    }
+    append(out, std::move(part), m, material);
   }
   if (out.triangles.empty()) throw std::runtime_error(where + ": no triangle of non-zero area");
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
@@ -206,6 +225,15 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     lo = glm::min(lo, p), hi = glm::max(hi, p);
   }
   out.bounds = {glm::vec3(lo), glm::vec3(hi)};
+  if (out.materials.size() > kMaxSceneMaterials) {
+    throw std::runtime_error(where + ": " + std::to_string(out.materials.size()) + " materials with the meshes' own (at most " +
+                             std::to_string(kMaxSceneMaterials) + ")");
+  }
+  if (without >= 0 && !out.materials.empty()) {
+    throw std::runtime_error(where + ": object " + std::to_string(without) +
+                             ": key 'material': missing (other objects' meshes have materials: name one in "
+                             "'materials' for this one)");
+  }
   if (out.materials.size() < 2) out.face_material.clear();
   return out;
 }

@@ -79,6 +79,8 @@ struct MeshArrays {
   std::vector<std::array<glm::vec2, 3>> face_uv;  // empty, or one per triangle
   std::vector<int> face_texture;                  // empty, or one per triangle: index into textures or -1
   std::vector<Texture> textures;
+  std::vector<uint32_t> face_material;            // empty, or one per triangle: index into materials
+  std::vector<std::string> materials;             // JSON texts (at most 255)
 };
 
 // Checks and repairs parsed mesh data into a TriangleMesh; `path` names the
@@ -108,7 +110,10 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays arrays, cons
 Texture read_texture(const std::string& file, const std::string& mesh_path);
 
 // Reads a mesh file (OBJ, PLY, OFF, STL through OpenMesh) with its vertex
-// colours, and for OBJ its textures (map_Kd) and micro-BRDF roughness. The
+// colours, and for OBJ its textures (map_Kd), micro-BRDF roughness and, with
+// two or more usemtl groups, a material per group (face_material, materials:
+// GGX from Pr, Phong from Ns and Ks, else Lambert, diffuse Kd; mtllib files
+// are read only when regular and at most 16 MiB). The
 // file is untrusted: throws std::runtime_error with "<path>: <problem>" for
 // an unreadable file, an unknown format, a missing texture, and every
 // refusal of make_triangle_mesh, which it calls. What OpenMesh 9.0 would
