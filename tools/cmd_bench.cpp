@@ -28,9 +28,11 @@
 #include "svo/reference/reference.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
+#include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 #include "svo/voxelizer/build.h"
 #include "svo/voxelizer/mesh.h"
+#include "view_options.h"
 
 namespace svo::tools {
 
@@ -49,6 +51,7 @@ struct SpeedErrorArgs {
   uint32_t reference_spp = 256;
   uint32_t repeats = 3;
   bool shadows = false;
+  LightingOptions lighting;  // --env, --material: the forward pass at several spp instead of the tracer's modes
   std::string device;
   std::string out = "bench-speed-error";
 };
@@ -139,11 +142,19 @@ void run_speed_error(const SpeedErrorArgs& a) {
 
   std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
   render::Renderer& gpu = *renderer;
-  const std::vector<Method> methods = {
-      {"prefiltered", render::Mode::Prefiltered, 1}, {"nearest", render::Mode::Nearest, 1},
-      {"alpha", render::Mode::Alpha, 1},             {"mip", render::Mode::Mip, 1},
-      {"raymarch-1", render::Mode::RayMarch, 1},     {"raymarch-4", render::Mode::RayMarch, 4},
-      {"raymarch-16", render::Mode::RayMarch, 16},   {"raymarch-64", render::Mode::RayMarch, 64}};
+  // Image-based lighting (an environment, a material, or the scene's own
+  // materials): the forward pass's speed against error as its samples grow,
+  // the baseline curve of the shading modules.
+  const bool lit = uses_lighting(a.lighting) || !tree.materials.empty();
+  const std::vector<Method> methods =
+      lit ? std::vector<Method>{{"forward-16", render::Mode::Prefiltered, 16},
+                                {"forward-64", render::Mode::Prefiltered, 64},
+                                {"forward-256", render::Mode::Prefiltered, 256}}
+          : std::vector<Method>{{"prefiltered", render::Mode::Prefiltered, 1}, {"nearest", render::Mode::Nearest, 1},
+                                {"alpha", render::Mode::Alpha, 1},             {"mip", render::Mode::Mip, 1},
+                                {"raymarch-1", render::Mode::RayMarch, 1},     {"raymarch-4", render::Mode::RayMarch, 4},
+                                {"raymarch-16", render::Mode::RayMarch, 16},   {"raymarch-64", render::Mode::RayMarch, 64}};
+  if (lit) gpu.add_pass(render::make_pass("forward"));
 
   std::vector<Row> rows;
   nlohmann::json headline = nlohmann::json::object();
@@ -153,6 +164,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
     s.width = s.height = a.size;
     s.camera = render::view_preset(tree, view);
     s.shadows = a.shadows;
+    apply_lighting(a.lighting, s);
     reference::ReferenceSettings rs;
     rs.render = s;
     rs.spp = a.reference_spp;
@@ -164,7 +176,8 @@ void run_speed_error(const SpeedErrorArgs& a) {
       const Method& m = methods[mi];
       bar.update(view + ": " + m.name, double(mi) / double(methods.size()));
       s.mode = m.mode;
-      s.spp = m.spp;
+      s.spp = lit ? 1 : m.spp;
+      s.shading.spp = m.spp;
       std::vector<double> ms;
       render::Frame f;
       for (uint32_t r = 0; r < std::max(1u, a.repeats); ++r) {
@@ -187,6 +200,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
       row.coverage_error_silhouette = e.coverage_error_silhouette.value_or(0.0);
       rows.push_back(row);
     }
+    if (lit) continue;  // the rows are the curve; the modules' benches weigh it
     // Headline: speed-up of one pre-filtered cone over supersampled marching at equal error.
     std::vector<Row> march;
     const Row* ours = nullptr;
@@ -234,14 +248,14 @@ void run_speed_error(const SpeedErrorArgs& a) {
   std::ostringstream md;
   md << "Source " << source_name(a.source) << " at " << a.resolution << "^3, " << a.size << "x" << a.size
      << ", reference " << a.reference_spp << " spp, device " << gpu.device_name() << ", median of " << a.repeats
-     << " frames.\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
+     << " frames" << (lit ? ", image-based lighting (forward pass)" : "") << ".\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     md << "| " << r.view << " | " << r.method << " | " << fmt(r.ms, 1) << " | " << fmt(r.us_per_pixel, 2) << " | "
        << sci(r.relmse) << " | " << sci(r.rmse) << " | " << fmt(r.coverage_error_silhouette, 3) << " |\n";
   }
-  md << "\n| view | speed-up of prefiltered over ray marching at equal relMSE |\n|---|---|\n";
-  for (const auto& v : views) {
+  if (!lit) md << "\n| view | speed-up of prefiltered over ray marching at equal relMSE |\n|---|---|\n";
+  for (const auto& v : lit ? std::vector<std::string>{} : views) {
     const auto& h = headline[v];
     md << "| " << v << " | "
        << (h.contains("speedup")         ? fmt(h["speedup"].get<double>(), 1) + "x"
@@ -318,8 +332,10 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   CLI::App* se = bench->add_subcommand(
       "speed-error",
       "For each view: GPU time and error against the ground truth (svo reference) of prefiltered, nearest, alpha, "
-      "mip and ray marching of the finest level at 1, 4, 16 and 64 rays per pixel; writes table.md, results.csv, "
-      "results.json, speed-error.png (gnuplot) and the images to --out");
+      "mip and ray marching of the finest level at 1, 4, 16 and 64 rays per pixel; with --env or --material (or a "
+      "source with materials of its own), the forward pass at 16, 64 and 256 samples per pixel instead, the ground "
+      "truth under the same lighting; writes table.md, results.csv, results.json, speed-error.png (gnuplot) and the "
+      "images to --out");
   add_source_options(*se, a->source);
   se->add_option("--resolution", a->resolution, "Finest lattice cells per axis of the octree")
       ->default_val(256)
@@ -333,6 +349,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       ->default_val(3)
       ->check(CLI::Range(1u, 100u));
   se->add_flag("--shadows", a->shadows, "Soft shadows in every method and in the ground truth");
+  add_lighting_options(*se, a->lighting);
   se->add_option("--device", a->device, kDeviceHelp);
   se->add_option("-o,--out", a->out, "Output directory (created)")->default_val("bench-speed-error");
   se->callback([a, &exit_code] {
