@@ -3,7 +3,7 @@
 # after the other, single process (-jobs=1: 2 cores are shared), and prints
 # each one's executions per second and corpus size.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]   targets: svo_load mesh_arrays mesh_file camera texture merl
-#                                            environment material
+#                                            environment material scene_file
 # Installs what it needs (scripts/setup.sh's packages, clang and
 # libclang-rt-14-dev). Builds a Clang tree with AddressSanitizer + UndefinedBehaviorSanitizer and
 # coverage (-fsanitize=fuzzer) in FUZZ_DIR (default build-fuzz). The corpus
@@ -20,7 +20,7 @@ FUZZ_DIR="${FUZZ_DIR:-$ROOT/build-fuzz}"
 SECONDS_EACH="${1:-60}"
 shift || true
 TARGETS=("$@")
-if ((${#TARGETS[@]} == 0)); then TARGETS=(svo_load mesh_arrays mesh_file camera texture merl environment material); fi
+if ((${#TARGETS[@]} == 0)); then TARGETS=(svo_load mesh_arrays mesh_file camera texture merl environment material scene_file); fi
 
 # The libraries (scripts/setup.sh), then Clang with libFuzzer, which only
 # fuzzing needs.

@@ -297,8 +297,45 @@ int material(const uint8_t* data, size_t size) {
   }
 }
 
+int scene_file(const uint8_t* data, size_t size) {
+  // The meshes a scene may name, beside it (see write_seeds).
+  static const bool meshes = [] {
+    const std::filesystem::path dir = TempFile(nullptr, 0, ".json").path;
+    std::ofstream(dir.parent_path() / "svo-fuzz-tet.off")
+        << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    std::ofstream(dir.parent_path() / "svo-fuzz-groups.obj")
+        << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nusemtl a\nf 1 3 2\nf 1 2 4\nusemtl b\nf 1 4 3\nf 2 3 4\n";
+    return true;
+  }();
+  (void)meshes;
+  TempFile file(data, size, ".json");
+  try {
+    const voxelizer::TriangleMesh mesh = voxelizer::read_scene_file(file.path);
+    const size_t count = mesh.triangles.size();
+    if (count == 0 || mesh.face_normals.size() != count || mesh.face_uv.size() != count ||
+        mesh.face_texture.size() != count || (!mesh.face_material.empty() && mesh.face_material.size() != count)) {
+      broken("accepted scene with inconsistent arrays");
+    }
+    if (mesh.materials.size() > 255) broken("accepted scene with more than 255 materials");
+    for (size_t f = 0; f < count; ++f) {
+      if (!mesh.face_material.empty() && mesh.face_material[f] >= mesh.materials.size()) {
+        broken("face material out of range");
+      }
+      if (std::abs(glm::length(mesh.face_normals[f]) - 1.0f) > 1e-3f) broken("normal not unit");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(mesh.bounds.lo[k]) || !std::isfinite(mesh.bounds.hi[k])) broken("non-finite bounds");
+    }
+    // Its materials as the voxelizer checks them.
+    render::parse_scene_materials(mesh.materials, "fuzz scene");
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
 std::vector<std::string> target_names() {
-  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl", "environment", "material"};
+  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl", "environment", "material", "scene_file"};
 }
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {
@@ -310,6 +347,7 @@ int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "merl") return merl(data, size);
   if (name == "environment") return environment(data, size);
   if (name == "material") return material(data, size);
+  if (name == "scene_file") return scene_file(data, size);
   throw std::invalid_argument("no fuzz target " + name);
 }
 

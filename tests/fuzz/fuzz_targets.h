@@ -54,6 +54,12 @@ int environment(const uint8_t* data, size_t size);
 // must write back (material_json) to JSON of the same kind.
 int material(const uint8_t* data, size_t size);
 
+// read_scene_file on the bytes written to a temporary .json, beside which
+// svo-fuzz-tet.off (a tetrahedron) and svo-fuzz-groups.obj (two usemtl
+// groups) lie; an accepted scene is checked (arrays of one length, material
+// indices in range, unit normals, finite bounds) and its materials parsed.
+int scene_file(const uint8_t* data, size_t size);
+
 // The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
 // u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
 // positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
@@ -66,7 +72,7 @@ struct MeshSeed {
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
 
 // Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
-// mesh_arrays, mesh_file, camera, texture, merl, environment, material), made by the library's own
+// mesh_arrays, mesh_file, camera, texture, merl, environment, material, scene_file), made by the library's own
 // writers; seeds named refused-* are inputs the loader must refuse. Returns
 // the number of files written.
 int write_seeds(const std::filesystem::path& dir);

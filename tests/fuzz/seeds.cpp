@@ -259,6 +259,22 @@ int write_seeds(const fs::path& dir) {
       ++count;
     }
   }
+  // Scene files: meshes placed with materials, the OBJ's own groups, a refused one.
+  {
+    fs::path d = target("scene_file");
+    const char* jsons[] = {
+        R"({"materials": {"gold": {"brdf": "ggx", "f0": [1, 0.8, 0.3]}, "clay": {"brdf": "lambert"}},
+            "objects": [{"mesh": "svo-fuzz-tet.off", "material": "gold", "scale": [2, 1, 1], "rotate": [0, 30, 0]},
+                        {"mesh": "svo-fuzz-tet.off", "material": "clay", "translate": [2, 0, 0], "colour": [1, 0, 0]}]})",
+        R"({"objects": [{"mesh": "svo-fuzz-groups.obj", "scale": 3}]})",
+        R"({"objects": [{"mesh": "svo-fuzz-tet.off", "material": "none"}]})"};
+    const char* names[] = {"two-materials", "obj-groups", "refused-unknown-material"};
+    for (int k = 0; k < 3; ++k) {
+      const std::string text = jsons[k];
+      put(d / names[k], std::vector<uint8_t>(text.begin(), text.end()));
+      ++count;
+    }
+  }
   return count;
 }
 

@@ -319,6 +319,13 @@ TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
                "material 'a': cannot open");
   expect_error(R"({"materials": {"a": "/dev/zero"}, "objects": [{"mesh": "scene_cube.off"}]})", "not a regular file");
   expect_error("{\"objects\": [", "not JSON");
+  // A device or FIFO named as a mesh is refused before it is read (it would hang).
+  try {
+    voxelizer::read_scene_file(write_file("dev_scene.json", R"({"objects": [{"mesh": "/dev/zero"}]})"));
+    ADD_FAILURE() << "read /dev/zero as a mesh";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "/dev/zero: not a regular file");
+  }
 }
 
 }  // namespace

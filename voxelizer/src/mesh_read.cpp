@@ -522,6 +522,8 @@ glm::vec3 TriangleMesh::colour(size_t triangle, glm::dvec3 bary) const {
 TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
   if (std::filesystem::is_directory(path)) throw std::runtime_error(path + ": is a directory, not a mesh");
+  // A FIFO or a device would hang the reader or never end.
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": not a regular file");
   // OpenMesh reports problems on its own streams, several lines each: we
   // report one line ourselves.
   omerr().disable();
