@@ -16,6 +16,7 @@ using namespace glm;
 #include "gbuffer.glsl"
 #include "prelude.glsl"
 #include "probe.glsl"
+#include "sg.glsl"
 #include "shade_params.glsl"
 #include "voxel_codec.glsl"
 #include "smith.glsl"
