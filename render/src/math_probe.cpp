@@ -27,7 +27,11 @@ const char* probe_value_name(int index) {
                                                   "mask_theta",
                                                   "mask_v",
                                                   "mask_coverage",
-                                                  "erfcx"};
+                                                  "erfcx",  //
+                                                  "sg_product_integral",
+                                                  "sg_eq11",
+                                                  "sg_eq12",
+                                                  "sg_iwasaki"};
   return index >= 0 && index < kProbeValues ? names[index] : "?";
 }
 

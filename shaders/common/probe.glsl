@@ -6,9 +6,10 @@
 #define SVO_PROBE_GLSL
 #include "beckmann.glsl"
 #include "cone_mask.glsl"
+#include "sg.glsl"
 
 SVO_CONST int SVO_PROBE_WORKGROUP = 64;
-SVO_CONST int SVO_PROBE_OUTPUTS = 4;
+SVO_CONST int SVO_PROBE_OUTPUTS = 5;
 
 
 // in = (mu, sigma, x, y): mu = cot(theta) of a direction, sigma its slope
@@ -18,6 +19,10 @@ SVO_CONST int SVO_PROBE_OUTPUTS = 4;
 //  1: Lambda(mu, sigma), Lambda_a(mu), G1, attribute_vl(0.6, 0.4 y, Lambda)
 //  2: Lambda_dir, Beckmann D, specular BRDF, Lambda_cos
 //  3: mask theta, mask v, mask coverage(v), erfcx(|x| + 0.84375)
+//  4: spherical Gaussians (sg.glsl) of sharpness 10^(x/3) about +z and
+//     100 sigma about a direction up to 90 degrees away (y, nearer for
+//     sharp lobes): the exact
+//     product integral, Eq. 11 and Eq. 12 at beta 1, Iwasaki's integral
 // Directions are built with +, *, / and sqrt only (no built-in trig, whose
 // precision Vulkan leaves loose). Beckmann D and the specular lobe are probed
 // inside the lobe (slopes within 4 sigma, at most 0.25): in the far tail D = exp(-e) turns
@@ -54,6 +59,18 @@ SVO_FN vec4 svo_probe_row(vec4 in_, int k) {
     vec2 s2_lobe = s2 + vec2(0.01f);
     return vec4(svo_smith_lambda_dir(w, s2), svo_beckmann_d(m, s2), svo_specular_brdf(v, l, s2_lobe),
                 svo_smith_lambda_cos(mu * r, sigma));
+  }
+  if (k == 4) {
+    SvoSG a = svo_sg(vec3(0.0f, 0.0f, 1.0f), exp2(x * 1.10730936f), 1.0f);  // 10^(x/3)
+    SvoSG b = svo_sg(vec3(0.0f, 0.0f, 1.0f), 100.0f * sigma, 1.0f);
+    // Axes apart by 2 atan(t): the product's exponent l (1 - cos) stays
+    // above about -8 (l = la lb / (la + lb)), where a weight still matters;
+    // further out an ulp of the exponent is a relative difference of its size.
+    float l = a.sharpness * b.sharpness / max(a.sharpness + b.sharpness, 1.0e-30f);
+    float t = y * min(1.0f, 2.0f / sqrt(max(l, 1.0e-30f)));
+    b.axis = vec3(2.0f * t, 0.0f, 1.0f - t * t) / (1.0f + t * t);
+    return vec4(svo_sg_product_integral(a, b), svo_weight_eq11(a, b, 1.0f), svo_weight_eq12(a, b, 1.0f),
+                svo_sg_product_integral_approx(a, b));
   }
   SvoMaskParams p = svo_cone_mask_params(w, y, 0.5f + sigma, 0.5f + 0.25f * sigma);
   return vec4(p.theta, p.v, svo_mask_coverage(p.v), svo_erfcx_large(abs(x) + SVO_ERF_SPLIT));

@@ -15,7 +15,7 @@
 namespace svo::render {
 
 // Number of scalar outputs per input (4 rows of vec4) and their names.
-constexpr int kProbeValues = 16;
+constexpr int kProbeValues = 20;
 const char* probe_value_name(int index);
 
 // A dense deterministic sweep: every (mu, sigma) of a grid of `n` x `n`
