@@ -2,7 +2,9 @@
 // product, the exact product integral in a form that does not overflow,
 // Iwasaki's approximate product integral, convolution with the smoothing
 // kernel of sharpness kappa (Eq. 10), and the lobe-aware weights of Eq. 11
-// and Eq. 12 with the normal-aware weight of Eq. 4 as their baseline.
+// and Eq. 12 with the normal-aware weight of Eq. 4 as their baseline;
+// anisotropic SGs (Xu et al. 2013): evaluation, smoothing, the approximate
+// product integral of two (with a Jacobi eigen-solver) and Eq. 13.
 //
 // An SG is G(w) = amplitude exp(sharpness (w . axis - 1)), axis unit,
 // sharpness >= 0. Its integral over the sphere is
@@ -142,6 +144,186 @@ SVO_FN float svo_weight_eq12(SvoSG a, SvoSG b, float beta) {
 // Eq. 4, the baseline: the normal-aware weight G(n_i, n_j, 1 / sigma_n^2).
 SVO_FN float svo_weight_normal(vec3 ni, vec3 nj, float sigma_n2) {
   return exp(svo_sg_cos_minus_one(ni, nj) / max(sigma_n2, 1.0e-30f));
+}
+
+// ---------------------------------------------------------------------------
+// Anisotropic spherical Gaussians (Xu et al. 2013), as Tokuyoshi's section
+// 4.2 uses them: A(w) = amplitude max(w . z, 0) exp(-lx (w . x)^2 - ly (w . y)^2)
+// for an orthonormal frame (x, y, z) and bandwidths lx, ly >= 0.
+
+struct SvoASG {
+  vec3 x;
+  vec3 y;
+  vec3 z;  // the lobe axis
+  float lx;
+  float ly;
+  float amplitude;
+};
+
+SVO_FN SvoASG svo_asg(vec3 x, vec3 y, vec3 z, float lx, float ly, float amplitude) {
+  SvoASG g;
+  g.x = x;
+  g.y = y;
+  g.z = z;
+  g.lx = lx;
+  g.ly = ly;
+  g.amplitude = amplitude;
+  return g;
+}
+
+SVO_FN float svo_asg_eval(SvoASG g, vec3 w) {
+  float u = dot(w, g.x);
+  float v = dot(w, g.y);
+  return g.amplitude * max(dot(w, g.z), 0.0f) * exp(-g.lx * u * u - g.ly * v * v);
+}
+
+// The ASG convolved with the SG kernel G(., ., kappa) (Xu's approximation,
+// Tokuyoshi's section 4.2): bandwidths l kappa / (2 l + kappa), amplitude
+// times 2 pi / sqrt((2 lx + kappa)(2 ly + kappa)); kappa = +inf leaves it.
+SVO_FN SvoASG svo_asg_smooth(SvoASG g, float kappa) {
+  if (!(kappa < 3.0e38f)) return g;
+  SvoASG r = g;
+  float sx = 2.0f * g.lx + kappa;
+  float sy = 2.0f * g.ly + kappa;
+  r.lx = sx > 0.0f ? kappa * (g.lx / sx) : 0.0f;
+  r.ly = sy > 0.0f ? kappa * (g.ly / sy) : 0.0f;
+  r.amplitude = sx > 0.0f && sy > 0.0f ? g.amplitude * 2.0f * SVO_PI / (sqrt(sx) * sqrt(sy)) : g.amplitude;
+  return r;
+}
+
+// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations
+// (Rutishauser's stable formulas), which keeps float's relative accuracy
+// where Cardano's closed form loses it (the banding of the paper's Fig. 19):
+// `values` ascending, `vectors` the matching unit columns.
+struct SvoEigen3 {
+  vec3 values;
+  mat3 vectors;
+};
+
+SVO_FN SvoEigen3 svo_eigen_symmetric3(mat3 a) {
+  mat3 v = mat3(1.0f);
+  for (int sweep = 0; sweep < 6; ++sweep) {
+    for (int k = 0; k < 3; ++k) {
+      int p = k == 2 ? 1 : 0;
+      int q = k == 0 ? 1 : 2;
+      float apq = a[q][p];
+      float scale = abs(a[p][p]) + abs(a[q][q]);
+      if (!(abs(apq) > 1.0e-9f * scale) || apq == 0.0f) continue;
+      float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
+      float t = (theta >= 0.0f ? 1.0f : -1.0f) / (abs(theta) + sqrt(theta * theta + 1.0f));
+      float c = 1.0f / sqrt(t * t + 1.0f);
+      float s = t * c;
+      mat3 j = mat3(1.0f);
+      j[p][p] = c;
+      j[q][q] = c;
+      j[q][p] = s;
+      j[p][q] = -s;
+      a = transpose(j) * a * j;
+      v = v * j;
+    }
+  }
+  // Sort ascending (three compares, columns swapped along).
+  vec3 e = vec3(a[0][0], a[1][1], a[2][2]);
+  if (e.y < e.x) {
+    e = vec3(e.y, e.x, e.z);
+    v = mat3(v[1], v[0], v[2]);
+  }
+  if (e.z < e.y) {
+    e = vec3(e.x, e.z, e.y);
+    v = mat3(v[0], v[2], v[1]);
+  }
+  if (e.y < e.x) {
+    e = vec3(e.y, e.x, e.z);
+    v = mat3(v[1], v[0], v[2]);
+  }
+  SvoEigen3 r;
+  r.values = e;
+  r.vectors = v;
+  return r;
+}
+
+// The approximate integral over the sphere of the product of two ASGs, by
+// Laplace's method on F(w) = log(w . z1) + log(w . z2) - w^T A w, with
+// A = lx1 x1 x1^T + ly1 y1 y1^T + lx2 x2 x2^T + ly2 y2 y2^T (the product is
+// exp(F) where both cosines are positive). As in Xu et al. and Tokuyoshi,
+// the peak starts at A's smallest eigenvector v0 (w^T A w = e0 + (e1 - e0)
+// (w . v1)^2 + (e2 - e0)(w . v2)^2 for unit w), turned towards z1 + z2;
+// where one cosine is negative there (the case the paper names: z1 . z2 < 0
+// with lx = ly puts v0 across the bisector) it starts at the bisector.
+// Newton steps on the sphere then move it to F's maximum, where -Hess F =
+// P (2 A + z1 z1^T / c1^2 + z2 z2^T / c2^2) P + (2 - 2 w^T A w) P
+// (P: the tangent plane). The integral is c1 c2 exp(-w^T A w) pi /
+// sqrt(det B), B = -Hess F / 2 - I / 2: Laplace's 2 pi / sqrt(det(-Hess F))
+// with the next order of the sphere's measure and of the cosines (exact to
+// O(1 / l^2) for two aligned isotropic lobes). Bandwidths below 10 are low
+// frequency, where this and every closed form of ASG products err.
+SVO_FN mat3 svo_asg_exponent(SvoASG a, SvoASG b) {
+  return a.lx * outerProduct(a.x, a.x) + a.ly * outerProduct(a.y, a.y) + b.lx * outerProduct(b.x, b.x) +
+         b.ly * outerProduct(b.y, b.y);
+}
+
+// -Hess F / 2 - I / 2 in the tangent basis (t1, t2) at w: (xx, yy, xy).
+SVO_FN vec3 svo_asg_curvature(mat3 m, vec3 za, vec3 zb, vec3 w, vec3 t1, vec3 t2) {
+  float ca = max(dot(w, za), 1.0e-4f);
+  float cb = max(dot(w, zb), 1.0e-4f);
+  float diag = 1.0f - dot(w, m * w) - 0.5f;
+  vec3 r;
+  r.x = dot(t1, m * t1) + 0.5f * (dot(t1, za) * dot(t1, za) / (ca * ca) + dot(t1, zb) * dot(t1, zb) / (cb * cb)) + diag;
+  r.y = dot(t2, m * t2) + 0.5f * (dot(t2, za) * dot(t2, za) / (ca * ca) + dot(t2, zb) * dot(t2, zb) / (cb * cb)) + diag;
+  r.z = dot(t1, m * t2) + 0.5f * (dot(t1, za) * dot(t2, za) / (ca * ca) + dot(t1, zb) * dot(t2, zb) / (cb * cb));
+  return r;
+}
+
+SVO_FN float svo_asg_product_integral(SvoASG a, SvoASG b) {
+  mat3 m = svo_asg_exponent(a, b);
+  SvoEigen3 e = svo_eigen_symmetric3(m);
+  vec3 mid = a.z + b.z;
+  vec3 w = e.vectors[0];
+  if (dot(w, length(mid) > 1.0e-6f ? mid : a.z) < 0.0f) w = -w;
+  if (!(dot(w, a.z) > 0.0f && dot(w, b.z) > 0.0f)) {
+    if (!(length(mid) > 1.0e-6f)) return 0.0f;  // opposite axes: the supports meet on a circle only
+    w = normalize(mid);
+  }
+  for (int i = 0; i < 8; ++i) {
+    vec3 t1 = normalize(abs(w.x) < 0.9f ? cross(w, vec3(1.0f, 0.0f, 0.0f)) : cross(w, vec3(0.0f, 1.0f, 0.0f)));
+    vec3 t2 = cross(w, t1);
+    float ca = max(dot(w, a.z), 1.0e-4f);
+    float cb = max(dot(w, b.z), 1.0e-4f);
+    vec3 g = a.z / ca + b.z / cb - 2.0f * (m * w);
+    vec2 gt = vec2(dot(t1, g), dot(t2, g));
+    // Newton: (-Hess F) d = grad F, -Hess F = 2 (B + I / 2).
+    vec3 h = 2.0f * svo_asg_curvature(m, a.z, b.z, w, t1, t2) + vec3(1.0f, 1.0f, 0.0f);
+    float det = h.x * h.y - h.z * h.z;
+    vec2 d = det > 0.0f && h.x > 0.0f ? vec2(h.y * gt.x - h.z * gt.y, h.x * gt.y - h.z * gt.x) / det
+                                      : 0.05f * gt / (length(gt) + 1.0f);
+    float len = length(d);
+    if (len > 0.3f) d *= 0.3f / len;
+    w = normalize(w + d.x * t1 + d.y * t2);
+  }
+  float ca = dot(w, a.z);
+  float cb = dot(w, b.z);
+  if (!(ca > 0.0f && cb > 0.0f)) return 0.0f;
+  vec3 t1 = normalize(abs(w.x) < 0.9f ? cross(w, vec3(1.0f, 0.0f, 0.0f)) : cross(w, vec3(0.0f, 1.0f, 0.0f)));
+  vec3 t2 = cross(w, t1);
+  vec3 c = svo_asg_curvature(m, a.z, b.z, w, t1, t2);
+  // Its eigenvalues, each kept above 1e-3 (a lobe flatter than that is not a lobe).
+  float tr = 0.5f * (c.x + c.y);
+  float disc = sqrt(max(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z, 0.0f));
+  float bx = max(tr - disc, 1.0e-3f);
+  float by = max(tr + disc, 1.0e-3f);
+  return a.amplitude * b.amplitude * SVO_PI * exp(-dot(w, m * w)) * ca * cb / (sqrt(bx) * sqrt(by));
+}
+
+// Eq. 13 for one lobe per pixel: the normalised approximate product
+// integral of the two (smoothed) ASGs, raised to beta.
+SVO_FN float svo_weight_eq13(SvoASG a, SvoASG b, float beta) {
+  SvoASG ua = a;
+  SvoASG ub = b;
+  ua.amplitude = 1.0f;
+  ub.amplitude = 1.0f;
+  float norm = sqrt(svo_asg_product_integral(ua, ua)) * sqrt(svo_asg_product_integral(ub, ub));
+  float q = norm > 0.0f ? clamp(svo_asg_product_integral(ua, ub) / norm, 0.0f, 1.0f) : 0.0f;
+  return pow(q, beta);
 }
 
 #endif
