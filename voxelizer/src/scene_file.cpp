@@ -42,7 +42,7 @@ std::string read_small_file(const fs::path& path, const std::string& where) {
 json parse_json(const std::string& text, const std::string& where) {
   try {
     return json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number beyond double (found by fuzzing)
     std::string why = e.what();
     for (char& c : why) c = c == '\n' ? ' ' : c;
     throw std::runtime_error(where + ": not JSON: " + why);
