@@ -392,7 +392,7 @@ SVO_FN SvoMaterialMix svo_material_mix(vec3 p, float radius) {
       }
       r.a = index[k];
       best = total;
-    } else if (total > second && index[k] != r.b) {
+    } else if (total > second && (second <= 0.0f || index[k] != r.b)) {
       r.b = index[k];
       second = total;
     }
