@@ -147,6 +147,36 @@ SVO_FN float svo_weight_normal(vec3 ni, vec3 nj, float sigma_n2) {
 }
 
 // ---------------------------------------------------------------------------
+// Lobes on the fly (Wang et al. 2009; Tokuyoshi's supplement). The NDF as
+// an SG about the normal in half-vector space: Beckmann and GGX near their
+// peak, exp(-tan^2 / alpha^2) ~ exp(-theta^2 / alpha^2), sharpness
+// 2 / alpha^2; the Phong NDF cos^e, sharpness e. An SG's angular variance
+// is 1 / sharpness per axis, so a voxel's slope variance sigma^2 (per axis)
+// widens it to 1 / (1 / l + sigma^2), as the forward pass adds variances.
+SVO_FN float svo_ndf_sharpness(uint kind, float alpha2, float exponent, float sigma2) {
+  float l = kind == 3u ? max(exponent, 0.0f) : 2.0f / max(alpha2, 1.0e-8f);  // 3: SVO_BRDF_PHONG
+  return l / (1.0f + l * max(sigma2, 0.0f));
+}
+
+// The reflection lobe of a half-vector SG of sharpness lh about the unit
+// normal n, seen from the unit direction v (towards the eye): axis
+// reflect(-v, n), sharpness lh / (4 |n . v|) (the half-vector to
+// reflected-direction Jacobian), |n . v| kept above 0.1 so that grazing
+// views do not give a lobe of zero width.
+SVO_FN SvoSG svo_reflection_lobe(vec3 n, vec3 v, float lh) {
+  float c = dot(n, v);
+  SvoSG g;
+  g.axis = normalize(2.0f * c * n - v);
+  g.sharpness = lh / (4.0f * max(abs(c), 0.1f));
+  g.amplitude = 1.0f;
+  return g;
+}
+
+// The diffuse lobe: the clamped cosine about n as one SG (sharpness 2.133,
+// the least-squares fit).
+SVO_FN SvoSG svo_diffuse_lobe(vec3 n) { return svo_sg(n, 2.133f, 1.0f); }
+
+// ---------------------------------------------------------------------------
 // Anisotropic spherical Gaussians (Xu et al. 2013), as Tokuyoshi's section
 // 4.2 uses them: A(w) = amplitude max(w . z, 0) exp(-lx (w . x)^2 - ly (w . y)^2)
 // for an orthonormal frame (x, y, z) and bandwidths lx, ly >= 0.

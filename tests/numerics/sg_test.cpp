@@ -363,3 +363,42 @@ TEST(AnisotropicSphericalGaussians, Eq13IsOneForIdenticalLobesAndSymmetric) {
 }
 
 }  // namespace
+
+namespace {
+
+// The reflection lobe of a Beckmann NDF, as an SG, against the true lobe
+// D(h(l)) / (4 |h . v|) over outgoing directions l: their normalised
+// similarity (Eq. 8 with beta 1) by quadrature is close to 1 where the lobe
+// is not grazing, and the SG's width follows the roughness and the voxel's
+// slope variance.
+TEST(SphericalGaussians, ReflectionLobeFollowsTheBeckmannLobe) {
+  for (double alpha : {0.05, 0.1, 0.3}) {
+    for (double view : {0.0, 0.5, 1.0}) {
+      const glm::dvec3 n(0, 0, 1), v = direction(view, 0.0);
+      const float lh = svo::math::svo_ndf_sharpness(1u, float(alpha * alpha), 0.0f, 0.0f);
+      const SvoSG sg = svo::math::svo_reflection_lobe(glm::vec3(n), glm::vec3(v), lh);
+      auto lobe = [&](glm::dvec3 l) {
+        if (l.z <= 0) return 0.0;
+        const glm::dvec3 h = glm::normalize(l + v);
+        const double t2 = (1 - h.z * h.z) / (h.z * h.z);
+        return std::exp(-t2 / (alpha * alpha)) / (std::pow(h.z, 4) * 4 * std::abs(glm::dot(h, v)));
+      };
+      const Lobe g{glm::dvec3(sg.axis), double(sg.sharpness), 1.0};
+      const glm::dvec3 c = glm::dvec3(sg.axis);
+      const double ab = sphere_integral(c, [&](glm::dvec3 w) { return lobe(w) * g(w); }, 256);
+      const double aa = sphere_integral(c, [&](glm::dvec3 w) { return lobe(w) * lobe(w); }, 256);
+      const double bb = sphere_integral(c, [&](glm::dvec3 w) { return g(w) * g(w); }, 256);
+      const double q = ab / std::sqrt(aa * bb);
+      std::printf("Beckmann alpha %.2f, view %.1f rad: similarity of the SG reflection lobe %.4f\n", alpha, view, q);
+      EXPECT_GT(q, 0.9) << alpha << " " << view;
+    }
+  }
+  // Variances add: a voxel slope variance equal to the NDF's halves the sharpness.
+  EXPECT_NEAR(svo::math::svo_ndf_sharpness(1u, 0.02f, 0.0f, 0.01f), 0.5f * 2.0f / 0.02f, 1e-3f);
+  EXPECT_NEAR(svo::math::svo_ndf_sharpness(3u, 0.0f, 400.0f, 0.0f), 400.0f, 1e-3f);
+  // Two diffuse lobes give Eq. 12 = the normal-aware weight (see above).
+  const SvoSG d = svo::math::svo_diffuse_lobe(glm::vec3(0, 0, 1));
+  EXPECT_FLOAT_EQ(svo::math::svo_weight_eq12(d, d, 5.0f), 1.0f);
+}
+
+}  // namespace
