@@ -319,6 +319,9 @@ TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
                "material 'a': cannot open");
   expect_error(R"({"materials": {"a": "/dev/zero"}, "objects": [{"mesh": "scene_cube.off"}]})", "not a regular file");
   expect_error("{\"objects\": [", "not JSON");
+  // Text from the file stays on one line in messages (found by fuzzing).
+  expect_error(R"({"objects": [{"mesh": "scene_cube.off"}], "a\nb": 1})", "unknown key 'a\\x0Ab'");
+  expect_error(R"({"objects": [{"mesh": "a\nb.off"}]})", "key 'mesh': the path 'a\\x0Ab.off' holds a control character");
   // A device or FIFO named as a mesh is refused before it is read (it would hang).
   try {
     voxelizer::read_scene_file(write_file("dev_scene.json", R"({"objects": [{"mesh": "/dev/zero"}]})"));

@@ -39,6 +39,35 @@ std::string read_small_file(const fs::path& path, const std::string& where) {
   return text.str();
 }
 
+// Text from the file in a message: control bytes as \xNN, at most 60 bytes,
+// so that the message stays one line whatever the file holds.
+std::string shown(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < 60; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7F) {
+      static const char* hex = "0123456789ABCDEF";
+      out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    } else {
+      out += char(c);
+    }
+  }
+  return text.size() > 60 ? out + "..." : out;
+}
+
+// A path named by the file; one with a control byte is refused (every
+// message naming it would break its line).
+fs::path path_of(const json& value, const fs::path& folder, const std::string& at, const std::string& key) {
+  const std::string text = value.get<std::string>();
+  for (char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+      throw std::runtime_error(at + ": key '" + key + "': the path '" + shown(text) + "' holds a control character");
+    }
+  }
+  const fs::path p = text;
+  return p.is_relative() ? folder / p : p;
+}
+
 json parse_json(const std::string& text, const std::string& where) {
   try {
     return json::parse(text);
@@ -57,7 +86,7 @@ std::string material_text(json m, const fs::path& base, const std::string& where
     fs::path file = it->get<std::string>();
     if (file.is_relative()) *it = fs::absolute(base / file).lexically_normal().string();
   }
-  return m.dump();
+  return m.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 glm::dvec3 vec3_of(const json& v, const std::string& where, const std::string& key) {
@@ -121,7 +150,7 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
   if (!scene.is_object()) throw std::runtime_error(where + ": expected a JSON object");
   for (auto it = scene.begin(); it != scene.end(); ++it) {
     if (it.key() != "materials" && it.key() != "objects") {
-      throw std::runtime_error(where + ": unknown key '" + it.key() + "' (keys: materials, objects)");
+      throw std::runtime_error(where + ": unknown key '" + shown(it.key()) + "' (keys: materials, objects)");
     }
   }
   const fs::path folder = fs::absolute(path).parent_path();
@@ -135,10 +164,10 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
                                std::to_string(kMaxSceneMaterials) + ")");
     }
     for (auto m = it->begin(); m != it->end(); ++m) {
-      const std::string at = where + ": material '" + m.key() + "'";
+      const std::string at = where + ": material '" + shown(m.key()) + "'";
       names.push_back(m.key());
       if (m->is_string()) {
-        const fs::path file = folder / m->get<std::string>();
+        const fs::path file = path_of(*m, folder, where, "materials");
         out.materials.push_back(
             material_text(parse_json(read_small_file(file, at), at + " (" + file.string() + ")"),
                           fs::absolute(file).parent_path(), at));
@@ -163,22 +192,20 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     for (auto k = o.begin(); k != o.end(); ++k) {
       static const char* keys[] = {"mesh", "material", "scale", "rotate", "translate", "colour"};
       if (std::find(std::begin(keys), std::end(keys), k.key()) == std::end(keys)) {
-        throw std::runtime_error(at + ": unknown key '" + k.key() +
+        throw std::runtime_error(at + ": unknown key '" + shown(k.key()) +
                                  "' (keys: mesh, material, scale, rotate, translate, colour)");
       }
     }
     if (!o.contains("mesh") || !o["mesh"].is_string()) throw std::runtime_error(at + ": key 'mesh': expected a path");
     uint32_t material = 0;
-    const fs::path mesh_path = fs::path(o["mesh"].get<std::string>()).is_relative()
-                                   ? folder / o["mesh"].get<std::string>()
-                                   : fs::path(o["mesh"].get<std::string>());
+    const fs::path mesh_path = path_of(o["mesh"], folder, at, "mesh");
     TriangleMesh part;
     if (o.contains("material")) {
       if (!o["material"].is_string()) throw std::runtime_error(at + ": key 'material': expected a material's name");
       const std::string name = o["material"].get<std::string>();
       auto found = std::find(names.begin(), names.end(), name);
       if (found == names.end()) {
-        throw std::runtime_error(at + ": key 'material': no material named '" + name + "' in 'materials'");
+        throw std::runtime_error(at + ": key 'material': no material named '" + shown(name) + "' in 'materials'");
       }
       material = uint32_t(found - names.begin());
     }
