@@ -145,7 +145,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
   // Image-based lighting (an environment, a material, or the scene's own
   // materials): the forward pass's speed against error as its samples grow,
   // the baseline curve of the shading modules.
-  const bool lit = uses_lighting(a.lighting) || !tree.materials.empty();
+  const bool lit = shades_forward(a.lighting, tree);
   const std::vector<Method> methods =
       lit ? std::vector<Method>{{"forward-16", render::Mode::Prefiltered, 16},
                                 {"forward-64", render::Mode::Prefiltered, 64},

@@ -163,7 +163,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     settings.shading.spp = a->spp;
     std::unique_ptr<render::Renderer> made = render::make_renderer(tree, {a->device, a->validate});
     render::Renderer& renderer = *made;
-    if (uses_lighting(a->lighting) || (!tree.materials.empty() && *mode == render::Mode::Prefiltered)) {
+    if (uses_lighting(a->lighting) || (shades_forward(a->lighting, tree) && *mode == render::Mode::Prefiltered)) {
       if (*mode != render::Mode::Prefiltered)
         throw std::invalid_argument("--env and --material need --mode prefiltered");
       renderer.add_pass(render::make_pass("forward"));

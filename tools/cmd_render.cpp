@@ -233,7 +233,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     octree::Octree tree = octree::load_svo(a->input);
     const double load_ms = elapsed_ms(start);
     // A scene with materials of its own shades them: forward by default.
-    if (a->shading.empty() && !tree.materials.empty() && *mode == render::Mode::Prefiltered && a->spp <= 1) {
+    if (a->shading.empty() && shades_forward(a->lighting, tree) && *mode == render::Mode::Prefiltered && a->spp <= 1) {
       forward = true;
     }
     const std::string view_name = tools::view_name(a->view);

@@ -131,7 +131,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
       made = std::make_unique<render::GpuRenderer>(context, tree);
     }
     render::Renderer& renderer = *made;
-    if (uses_lighting(opt->lighting) || !tree.materials.empty()) renderer.add_pass(render::make_pass("forward"));
+    if (shades_forward(opt->lighting, tree)) renderer.add_pass(render::make_pass("forward"));
     double scale = opt->scale > 0 ? opt->scale : native || context.info().type == "cpu" ? 0.5 : 1.0;
 
     render::RenderSettings settings;

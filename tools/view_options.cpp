@@ -93,6 +93,10 @@ void add_lighting_options(CLI::App& cmd, LightingOptions& o) {
 
 bool uses_lighting(const LightingOptions& o) { return !o.env.empty() || !o.material.empty(); }
 
+bool shades_forward(const LightingOptions& o, const octree::Octree& tree) {
+  return uses_lighting(o) || !tree.materials.empty();
+}
+
 void apply_lighting(const LightingOptions& o, render::RenderSettings& settings) {
   render::ShadingOptions& s = settings.shading;
   if (!o.env.empty()) {

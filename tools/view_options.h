@@ -49,6 +49,9 @@ void add_light_options(CLI::App& cmd, ViewOptions& o);
 void add_lighting_options(CLI::App& cmd, LightingOptions& o);
 // Whether an environment or a material is asked for.
 bool uses_lighting(const LightingOptions& o);
+// Whether a frame of `tree` shades with the forward pass by default: with an
+// environment or a material, or when the octree carries materials of its own.
+bool shades_forward(const LightingOptions& o, const octree::Octree& tree);
 // Loads the environment and the material into `shading` (a warning about
 // clamped texels goes to stderr); with an environment the ambient term is 0.
 // @throw std::runtime_error as one line naming the file.

@@ -18,6 +18,7 @@
 // taken from its series near 0: finite for every sharpness.
 #ifndef SVO_SG_GLSL
 #define SVO_SG_GLSL
+#include "frame.glsl"
 #include "prelude.glsl"
 
 struct SvoSG {
@@ -292,16 +293,19 @@ SVO_FN mat3 svo_asg_exponent(SvoASG a, SvoASG b) {
          b.ly * outerProduct(b.y, b.y);
 }
 
-// -Hess F / 2 - I / 2 in the tangent basis (t1, t2) at w: (xx, yy, xy).
-SVO_FN vec3 svo_asg_curvature(mat3 m, vec3 za, vec3 zb, vec3 w, vec3 t1, vec3 t2) {
+// u^T (A + za za^T / (2 ca^2) + zb zb^T / (2 cb^2)) v: -Hess F / 2 off the
+// sphere's own term, at a point whose cosines are ca, cb.
+SVO_FN float svo_asg_form(mat3 m, vec3 za, vec3 zb, float ca, float cb, vec3 u, vec3 v) {
+  return dot(u, m * v) + 0.5f * (dot(u, za) * dot(v, za) / (ca * ca) + dot(u, zb) * dot(v, zb) / (cb * cb));
+}
+
+// -Hess F / 2 - I / 2 in the tangent frame f at w: (tt, bb, tb).
+SVO_FN vec3 svo_asg_curvature(mat3 m, vec3 za, vec3 zb, vec3 w, SvoFrame f) {
   float ca = max(dot(w, za), 1.0e-4f);
   float cb = max(dot(w, zb), 1.0e-4f);
-  float diag = 1.0f - dot(w, m * w) - 0.5f;
-  vec3 r;
-  r.x = dot(t1, m * t1) + 0.5f * (dot(t1, za) * dot(t1, za) / (ca * ca) + dot(t1, zb) * dot(t1, zb) / (cb * cb)) + diag;
-  r.y = dot(t2, m * t2) + 0.5f * (dot(t2, za) * dot(t2, za) / (ca * ca) + dot(t2, zb) * dot(t2, zb) / (cb * cb)) + diag;
-  r.z = dot(t1, m * t2) + 0.5f * (dot(t1, za) * dot(t2, za) / (ca * ca) + dot(t1, zb) * dot(t2, zb) / (cb * cb));
-  return r;
+  float diag = 0.5f - dot(w, m * w);
+  return vec3(svo_asg_form(m, za, zb, ca, cb, f.t, f.t) + diag, svo_asg_form(m, za, zb, ca, cb, f.b, f.b) + diag,
+              svo_asg_form(m, za, zb, ca, cb, f.t, f.b));
 }
 
 SVO_FN float svo_asg_product_integral(SvoASG a, SvoASG b) {
@@ -315,27 +319,24 @@ SVO_FN float svo_asg_product_integral(SvoASG a, SvoASG b) {
     w = normalize(mid);
   }
   for (int i = 0; i < 8; ++i) {
-    vec3 t1 = normalize(abs(w.x) < 0.9f ? cross(w, vec3(1.0f, 0.0f, 0.0f)) : cross(w, vec3(0.0f, 1.0f, 0.0f)));
-    vec3 t2 = cross(w, t1);
+    SvoFrame f = svo_tangent_frame(w);
     float ca = max(dot(w, a.z), 1.0e-4f);
     float cb = max(dot(w, b.z), 1.0e-4f);
     vec3 g = a.z / ca + b.z / cb - 2.0f * (m * w);
-    vec2 gt = vec2(dot(t1, g), dot(t2, g));
+    vec2 gt = vec2(dot(f.t, g), dot(f.b, g));
     // Newton: (-Hess F) d = grad F, -Hess F = 2 (B + I / 2).
-    vec3 h = 2.0f * svo_asg_curvature(m, a.z, b.z, w, t1, t2) + vec3(1.0f, 1.0f, 0.0f);
+    vec3 h = 2.0f * svo_asg_curvature(m, a.z, b.z, w, f) + vec3(1.0f, 1.0f, 0.0f);
     float det = h.x * h.y - h.z * h.z;
     vec2 d = det > 0.0f && h.x > 0.0f ? vec2(h.y * gt.x - h.z * gt.y, h.x * gt.y - h.z * gt.x) / det
                                       : 0.05f * gt / (length(gt) + 1.0f);
     float len = length(d);
     if (len > 0.3f) d *= 0.3f / len;
-    w = normalize(w + d.x * t1 + d.y * t2);
+    w = normalize(w + d.x * f.t + d.y * f.b);
   }
   float ca = dot(w, a.z);
   float cb = dot(w, b.z);
   if (!(ca > 0.0f && cb > 0.0f)) return 0.0f;
-  vec3 t1 = normalize(abs(w.x) < 0.9f ? cross(w, vec3(1.0f, 0.0f, 0.0f)) : cross(w, vec3(0.0f, 1.0f, 0.0f)));
-  vec3 t2 = cross(w, t1);
-  vec3 c = svo_asg_curvature(m, a.z, b.z, w, t1, t2);
+  vec3 c = svo_asg_curvature(m, a.z, b.z, w, svo_tangent_frame(w));
   // Its eigenvalues, each kept above 1e-3 (a lobe flatter than that is not a lobe).
   float tr = 0.5f * (c.x + c.y);
   float disc = sqrt(max(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z, 0.0f));
