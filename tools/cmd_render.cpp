@@ -35,9 +35,11 @@ struct RenderArgs {
   std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
   std::string mode = "prefiltered";
-  uint32_t spp = 0;     // 0: the default of the mode (1 ray) or of forward shading (16 samples)
-  std::string shading;  // tracer or forward; empty: forward with --env, --material or the octree's materials, else tracer
+  uint32_t spp = 0;  // 0: the default of the mode (1 ray) or of forward shading (16 samples)
+  std::string
+      shading;  // tracer or forward; empty: forward with --env, --material or the octree's materials, else tracer
   LightingOptions lighting;
+  FilterArgs filter;
   uint32_t seed = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
   bool flat_masks = false;
@@ -108,7 +110,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--shading", a->shading,
                   "tracer: each cone element shaded by the lights as it is marched (paper Eq. 13); forward: the "
                   "G-buffer shaded afterwards with --env, --material and --spp samples per pixel (multiple "
-                  "importance sampling). Default: forward with --env or --material or an octree that carries materials (svo voxelize --material, "
+                  "importance sampling). Default: forward with --env or --material or an octree that carries materials "
+                  "(svo voxelize --material, "
                   "--scene material-spheres), else tracer")
       ->check(CLI::IsMember({"tracer", "forward"}))
       ->group("Shading");
@@ -144,6 +147,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0.25f, 4.0f))
       ->group("Shading");
   add_light_options(*cmd, a->view);
+  add_filter_options(*cmd, a->filter);
   cmd->add_option("--pass", a->passes,
                   "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
                   "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr), "
@@ -175,7 +179,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
     if (!mode)
       throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
-    bool forward = a->shading.empty() ? uses_lighting(a->lighting) : a->shading == "forward";
+    bool forward = a->shading.empty() ? uses_lighting(a->lighting) || uses_filter(a->filter) : a->shading == "forward";
+    if (uses_filter(a->filter) && !forward) {
+      throw std::invalid_argument("--filter and --upsample filter the forward pass: they need --shading forward");
+    }
     if (forward && *mode != render::Mode::Prefiltered) {
       throw std::invalid_argument("--shading forward shades the prefiltered G-buffer: it needs --mode prefiltered");
     }
@@ -247,6 +254,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.shading.spp = forward ? (a->spp == 0 ? 16 : a->spp) : 1;
     settings.shading.seed = a->seed;
     apply_lighting(a->lighting, settings);
+    apply_filter(a->filter, settings);
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
@@ -265,7 +273,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto setup_start = std::chrono::steady_clock::now();
     std::unique_ptr<render::Renderer> renderer =
         render::make_renderer(tree, {a->cpu ? "native" : a->device, a->validate});
-    if (forward) renderer->add_pass(render::make_pass("forward"));
+    if (forward && uses_filter(a->filter)) {
+      add_filter_passes(a->filter, *renderer);
+    } else if (forward) {
+      renderer->add_pass(render::make_pass("forward"));
+    }
     for (const std::string& name : a->passes) renderer->add_pass(render::make_pass(name));
     const double setup_ms = elapsed_ms(setup_start);
     {
@@ -310,6 +322,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"mode", render::mode_name(*mode)},
                          {"spp", forward ? settings.shading.spp : rays},
                          {"shading", forward ? "forward" : "tracer"},
+                         {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
+                                                                            {"beta", settings.filter.beta},
+                                                                            {"sigma_n2", settings.filter.sigma_n2},
+                                                                            {"radius", settings.filter.radius},
+                                                                            {"upsample", a->filter.upsample}}
+                                                           : nlohmann::json(nullptr)},
                          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
                          {"material", settings.shading.material
                                           ? nlohmann::json::parse(render::material_json(*settings.shading.material))

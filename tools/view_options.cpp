@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "svo/render/camera.h"
+#include "svo/render/passes.h"
 
 namespace svo::tools {
 
@@ -66,6 +67,67 @@ void add_light_options(CLI::App& cmd, ViewOptions& o) {
                      "domain centre, radius default 1% of the distance to it")
       ->allow_extra_args(false)  // one light per --light, so that FILE may follow it
       ->group("Shading");
+}
+
+void add_filter_options(CLI::App& cmd, FilterArgs& o) {
+  render::FilterOptions& f = o.options;
+  cmd.add_option("--filter", o.weight,
+                 "Filter the forward pass's diffuse and specular images apart, each with its lobes (Tokuyoshi 2015): "
+                 "lobe (Eq. 12, one spherical Gaussian per pixel), mixture (Eq. 11, up to 3 per pixel: two "
+                 "materials, a measured BRDF's fit), asg (Eq. 13, anisotropic, from the voxels' slope covariance), "
+                 "normal (Eq. 4, the normal-aware baseline), none")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "normal", "lobe", "mixture", "asg"}))
+      ->group("Filter");
+  cmd.add_option("--filter-beta", f.beta, "The lobe-aware weights' power beta (Eq. 11-13)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0e4f))
+      ->group("Filter");
+  cmd.add_option("--filter-sigma-n", f.sigma_n2, "The normal-aware weight's variance sigma_n^2 (Eq. 4)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0e-6f, 1.0e3f))
+      ->group("Filter");
+  cmd.add_option("--filter-sigma-z", f.sigma_z, "The depth weight's deviation, relative to the pixel's depth (Eq. 3)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0e-4f, 1.0e3f))
+      ->group("Filter");
+  cmd.add_option("--filter-kappa", f.kappa,
+                 "The smoothing kernel's sharpness kappa (Eq. 9-10; default: none when filtering, 100 when upsampling)")
+      ->check(CLI::Range(0.0f, 1.0e6f))
+      ->group("Filter");
+  cmd.add_option("--filter-radius", f.radius,
+                 "Filtering: taps on each side along each axis of the separable kernel (screen sigma: radius / 2)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64u))
+      ->group("Filter");
+  cmd.add_option("--upsample", o.upsample,
+                 "Shade at 1/2 or 1/4 of the size and upsample with the filter's weights (joint bilateral, the 2x2 "
+                 "shaded texels about each pixel) instead of filtering")
+      ->capture_default_str()
+      ->check(CLI::IsMember({1u, 2u, 4u}))
+      ->group("Filter");
+  cmd.add_option("--recompute", f.recompute,
+                 "Upsampling: shade a pixel again at full size where its total weight falls under this (paper Fig. 16; "
+                 "0: only where no shaded texel has weight)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->group("Filter");
+  cmd.add_flag(
+         "--filter-no-voxel-slopes", [&f](int64_t) { f.voxel_slopes = false; },
+         "The lobes from the materials alone, not widened by the voxels' slope covariance")
+      ->group("Filter");
+}
+
+bool uses_filter(const FilterArgs& o) { return o.weight != "none" || o.upsample > 1; }
+
+void apply_filter(const FilterArgs& o, render::RenderSettings& settings) {
+  settings.filter = o.options;
+  settings.filter.weight = render::parse_filter_weight(o.weight);
+}
+
+void add_filter_passes(const FilterArgs& o, render::Renderer& renderer) {
+  renderer.add_pass(std::make_unique<render::ForwardPass>(render::ForwardOutput{true, o.upsample}));
+  renderer.add_pass(std::make_unique<render::LobeFilterPass>(o.upsample));
 }
 
 void add_lighting_options(CLI::App& cmd, LightingOptions& o) {

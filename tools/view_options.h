@@ -38,6 +38,15 @@ struct LightingOptions {
   bool env_shadows = false;
 };
 
+// The lobe-aware filter and upsampling (Tokuyoshi 2015, DESIGN 10.5):
+// --filter, --filter-beta, --filter-sigma-n, --filter-sigma-z,
+// --filter-kappa, --filter-radius, --upsample, --recompute, --filter-no-voxel-slopes.
+struct FilterArgs {
+  std::string weight = "none";  // --filter
+  render::FilterOptions options;
+  uint32_t upsample = 1;  // --upsample: 1, 2, 4
+};
+
 // --width and --height (group Output).
 void add_size_options(CLI::App& cmd, ViewOptions& o);
 // --view, --camera, --camera-file (mutually exclusive) and --dof (group Camera).
@@ -47,6 +56,17 @@ void add_light_options(CLI::App& cmd, ViewOptions& o);
 
 // --env, --env-rotate, --env-scale, --material, --env-shadows (group Lighting).
 void add_lighting_options(CLI::App& cmd, LightingOptions& o);
+// The filter's options (group Filter).
+void add_filter_options(CLI::App& cmd, FilterArgs& o);
+// Whether the frame is filtered or upsampled (it is then forward shaded).
+bool uses_filter(const FilterArgs& o);
+// Checks --filter's name and puts the options into `settings`.
+// @throw std::invalid_argument naming the weights there are
+void apply_filter(const FilterArgs& o, render::RenderSettings& settings);
+// After the tracer: the forward pass with diffuse and specular apart (at
+// 1/upsample of the size) and the lobe-aware filter.
+void add_filter_passes(const FilterArgs& o, render::Renderer& renderer);
+
 // Whether an environment or a material is asked for.
 bool uses_lighting(const LightingOptions& o);
 // Whether a frame of `tree` shades with the forward pass by default: with an

@@ -381,16 +381,24 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     p.env.w = append_environment_distribution(env, t.floats);
     p.env_xform = glm::vec4(glm::radians(o.env_rotate_deg), o.env_scale, 0, 0);
   }
-  // A measured BRDF's tables, once per material.
+  // A measured BRDF's tables, once per material: its values, sampling
+  // tables and SG fit (lobe_filter.glsl: count, then sharpness and
+  // amplitude per lobe).
   auto merl_offsets = [&](const Material& m) {
-    if (m.kind != BrdfKind::Merl) return std::array<uint32_t, 2>{0, 0};
+    if (m.kind != BrdfKind::Merl) return std::array<uint32_t, 3>{0, 0, 0};
     if (!m.merl) throw std::invalid_argument("material '" + m.name + "': a MERL BRDF without its data");
-    return append_merl_tables(*m.merl, t.floats);
+    const auto tables = append_merl_tables(*m.merl, t.floats);
+    const std::vector<MerlSgLobe> lobes = fit_merl_sg(*m.merl);
+    const auto fit = uint32_t(t.floats.size());
+    t.floats.push_back(float(lobes.size()));
+    for (const MerlSgLobe& l : lobes) t.floats.insert(t.floats.end(), {l.sharpness, l.amplitude});
+    return std::array<uint32_t, 3>{tables[0], tables[1], fit};
   };
   const bool scene = !o.material && !o.scene_materials.empty();
   const Material& m = o.material ? *o.material : scene ? *o.scene_materials[0] : default_material;
   const auto offsets = merl_offsets(m);
   p.material = glm::uvec4(uint32_t(m.kind), offsets[0], offsets[1], 0);
+  p.env_xform.w = std::bit_cast<float>(offsets[2]);
   p.diffuse = glm::vec4(m.diffuse, m.roughness);
   p.specular = glm::vec4(m.f0, m.exponent);
   p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed,
@@ -399,7 +407,7 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
                           0);
   if (scene && o.scene_materials.size() > 1) {
     // The scene's table (svo_scene_material): records after every MERL table.
-    std::vector<std::array<uint32_t, 2>> merl(o.scene_materials.size());
+    std::vector<std::array<uint32_t, 3>> merl(o.scene_materials.size());
     for (size_t i = 0; i < merl.size(); ++i) merl[i] = i == 0 ? offsets : merl_offsets(*o.scene_materials[i]);
     p.material.w = uint32_t(o.scene_materials.size());
     p.sampling.w = uint32_t(t.floats.size());
@@ -407,7 +415,8 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
       const Material& s = *o.scene_materials[i];
       const float record[svo::math::SVO_MATERIAL_FLOATS] = {
           std::bit_cast<float>(uint32_t(s.kind)), std::bit_cast<float>(merl[i][0]), std::bit_cast<float>(merl[i][1]),
-          s.exponent, s.diffuse.x, s.diffuse.y, s.diffuse.z, s.roughness, s.f0.x, s.f0.y, s.f0.z, 0.0f};
+          s.exponent, s.diffuse.x, s.diffuse.y, s.diffuse.z, s.roughness, s.f0.x, s.f0.y, s.f0.z,
+          std::bit_cast<float>(merl[i][2])};
       t.floats.insert(t.floats.end(), std::begin(record), std::end(record));
     }
   }

@@ -92,20 +92,42 @@ SVO_FN SvoLobe svo_sample_lobe(SvoShadingPoint p, SvoMaterial mat, vec2 u) {
 
 SVO_FN vec3 svo_to_lobe(SvoLobe lobe, vec3 w) { return vec3(dot(w, lobe.t), dot(w, lobe.b), dot(w, lobe.n)); }
 
-// The BRDF times the cosine for light from l (world, unit).
-SVO_FN vec3 svo_forward_brdf_cos(SvoShadingPoint p, SvoLobe lobe, vec3 l) {
+// The BRDF times the cosine for light from l (world, unit), its diffuse
+// and specular parts apart (the lobe-aware filter filters them apart,
+// lobe_filter.glsl).
+struct SvoForwardSum {
+  vec3 diffuse;
+  vec3 specular;
+};
+
+SVO_FN SvoForwardSum svo_forward_brdf_cos(SvoShadingPoint p, SvoLobe lobe, vec3 l) {
   vec3 ll = vec3(dot(l, p.tx), dot(l, p.ty), dot(l, p.n));
-  vec3 r = vec3(0.0f);
+  SvoForwardSum r;
+  r.diffuse = vec3(0.0f);
+  r.specular = vec3(0.0f);
   float lambert = svo_rough_lambert(p.vl, ll, p.sn2);
   if (lambert > 0.0f) {
     float lambda_l = svo_smith_lambda_dir(ll, p.sn2);
     vec3 a = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v + lambda_l);
-    r += a * lobe.mat.diffuse * (lambert / SVO_PI) / (1.0f + lambda_l);
+    r.diffuse = a * lobe.mat.diffuse * (lambert / SVO_PI) / (1.0f + lambda_l);
   }
   if (lobe.mat.kind != SVO_BRDF_LAMBERT) {
     vec3 ls = svo_to_lobe(lobe, l);
-    r += svo_specular_lobe(lobe.mat, svo_to_lobe(lobe, p.v), ls) * max(ls.z, 0.0f);
+    r.specular = svo_specular_lobe(lobe.mat, svo_to_lobe(lobe, p.v), ls) * max(ls.z, 0.0f);
   }
+  return r;
+}
+
+SVO_FN float svo_forward_sum_total(SvoForwardSum f) {
+  vec3 t = f.diffuse + f.specular;
+  return t.x + t.y + t.z;
+}
+
+// sum + k f, part by part.
+SVO_FN SvoForwardSum svo_forward_madd(SvoForwardSum sum, SvoForwardSum f, vec3 k) {
+  SvoForwardSum r;
+  r.diffuse = sum.diffuse + k * f.diffuse;
+  r.specular = sum.specular + k * f.specular;
   return r;
 }
 
@@ -121,8 +143,9 @@ SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float sp
 }
 
 // The share of samples [first, first + count) of the radiance leaving the
-// G-buffer point towards the eye: their sum over shade.sampling.x samples.
-SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
+// G-buffer point towards the eye, diffuse and specular apart: their sum
+// over shade.sampling.x samples.
+SVO_FN SvoForwardSum svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
   SvoShadingPoint p = svo_shading_point(g);
   SvoMaterial first_material = svo_scene_material(g.material);
   SvoMaterial second_material = svo_scene_material(g.material2);
@@ -131,7 +154,9 @@ SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count
   uint seed = shade.sampling.y;
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
   bool light_shadows = (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u;
-  vec3 sum = vec3(0.0f);
+  SvoForwardSum sum;
+  sum.diffuse = vec3(0.0f);
+  sum.specular = vec3(0.0f);
   for (uint i = first; i < min(first + count, spp); ++i) {
     // Where the pixel shows two materials, each sample shades one of them,
     // drawn by its share: the estimate of their mix.
@@ -140,9 +165,11 @@ SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count
     vec3 vs = svo_to_lobe(lobe, p.v);
     for (uint k = 0u; k < params.tree.w; ++k) {
       SvoLightSample light = svo_light_at(k, p.position);
-      vec3 f = svo_forward_brdf_cos(p, lobe, light.l);
-      if (f.x + f.y + f.z > 0.0f && light_shadows) f *= svo_forward_visible(p, light.l, light.dist, light.spread);
-      sum += light.e * f;
+      SvoForwardSum f = svo_forward_brdf_cos(p, lobe, light.l);
+      vec3 e = light.e;
+      if (svo_forward_sum_total(f) > 0.0f && light_shadows)
+        e *= svo_forward_visible(p, light.l, light.dist, light.spread);
+      sum = svo_forward_madd(sum, f, e);
     }
     if (shade.env.y == 0u) continue;
     // One sample of the material's lobes.
@@ -150,57 +177,100 @@ SVO_FN vec3 svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count
                                  vec3(svo_sample_2d(pixel, seed, i, 2u), svo_sample_1d(pixel, seed, i, 4u)));
     if (b.w > 0.0f) {
       vec3 l = b.x * lobe.t + b.y * lobe.b + b.z * lobe.n;
-      vec3 f = svo_forward_brdf_cos(p, lobe, l);
-      if (f.x + f.y + f.z > 0.0f) {
+      SvoForwardSum f = svo_forward_brdf_cos(p, lobe, l);
+      if (svo_forward_sum_total(f) > 0.0f) {
         float w = svo_power_heuristic(b.w, svo_env_pdf(shade, l));
-        vec3 c = f * svo_env_radiance(shade, l) * (w / b.w);
-        if (env_shadows && c.x + c.y + c.z > 0.0f) c *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
-        sum += c;
+        vec3 k = svo_env_radiance(shade, l) * (w / b.w);
+        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        sum = svo_forward_madd(sum, f, k);
       }
     }
     // One sample of the environment.
     vec4 e = svo_env_sample(shade, svo_sample_2d(pixel, seed, i, 5u));
     if (e.w > 0.0f) {
       vec3 l = vec3(e);
-      vec3 f = svo_forward_brdf_cos(p, lobe, l);
-      if (f.x + f.y + f.z > 0.0f) {
+      SvoForwardSum f = svo_forward_brdf_cos(p, lobe, l);
+      if (svo_forward_sum_total(f) > 0.0f) {
         float pb = svo_material_pdf(lobe.mat, p.abar, vs, svo_to_lobe(lobe, l));
-        vec3 c = f * svo_env_radiance(shade, l) * (svo_power_heuristic(e.w, pb) / e.w);
-        if (env_shadows && c.x + c.y + c.z > 0.0f) c *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
-        sum += c;
+        vec3 k = svo_env_radiance(shade, l) * (svo_power_heuristic(e.w, pb) / e.w);
+        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        sum = svo_forward_madd(sum, f, k);
       }
     }
   }
-  return sum / float(spp);
+  float inv = 1.0f / float(spp);
+  sum.diffuse *= inv;
+  sum.specular *= inv;
+  return sum;
+}
+
+// The G-buffer texel that texel `low` of an image at 1/scale of the
+// frame's size stands for: the one at its centre.
+SVO_FN uint svo_scaled_texel(uint low, uint scale) {
+  uint lw = (params.image.x + scale - 1u) / scale;
+  uint x = min((low % lw) * scale + scale / 2u, params.image.x - 1u);
+  uint y = min((low / lw) * scale + scale / 2u, params.image.y - 1u);
+  return y * params.image.x + x;
+}
+
+// The background's share of pixel `pixel` (`background`: the trace pass's
+// share, rgb, and 1 - coverage): the environment seen through the pixel
+// centre in place of the constant background.
+SVO_FN vec3 svo_forward_background(vec4 background, uint pixel) {
+  if (shade.env.y == 0u) return vec3(background);
+  vec2 at = vec2(float(pixel % params.image.x) + 0.5f, float(pixel / params.image.x) + 0.5f);
+  vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
+  vec3 dir = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
+  return background.w * svo_env_background(shade, dir);
+}
+
+// The ambient term of a covered G-buffer point (unweighted by coverage).
+SVO_FN vec3 svo_forward_ambient(SvoGBuffer g) {
+  SvoShadingPoint p = svo_shading_point(g);
+  return vec3(params.ambient) * svo_attribute_vl3(p.abar, p.a_s, p.lambda_v);
 }
 
 // The pixel from samples [first, first + count) of shade.sampling.x: the
-// surface's share plus the background's (`background`: the trace pass's
-// share, rgb, and 1 - coverage), with the environment seen through the
-// pixel centre in place of the constant background, plus the ambient term;
-// `previous`, what the earlier samples gave, when first > 0. A host may run
-// the samples in one call or in several (lavapipe stops every loop of an
-// invocation once their iterations together pass 65535: llvmpipe's loop
-// limiter, LP_MAX_TGSI_LOOP_ITERATIONS).
+// surface's share plus the background's (svo_forward_background) plus the
+// ambient term; `previous`, what the earlier samples gave, when first > 0.
+// A host may run the samples in one call or in several (lavapipe stops
+// every loop of an invocation once their iterations together pass 65535:
+// llvmpipe's loop limiter, LP_MAX_TGSI_LOOP_ITERATIONS).
 SVO_FN vec4 svo_forward_texel(SvoGBuffer g, vec4 background, uint pixel, uint first, uint count, vec4 previous) {
   vec4 sum = previous;
   if (first == 0u) {
-    vec3 back = vec3(background);
-    if (shade.env.y != 0u) {
-      vec2 at = vec2(float(pixel % params.image.x) + 0.5f, float(pixel / params.image.x) + 0.5f);
-      vec2 ndc = at / vec2(float(params.image.x), float(params.image.y)) * 2.0f - 1.0f;
-      vec3 dir = normalize(vec3(params.cam_w) + ndc.x * vec3(params.cam_u) - ndc.y * vec3(params.cam_v));
-      back = background.w * svo_env_background(shade, dir);
-    }
-    sum = vec4(back, 0.0f);
+    sum = vec4(svo_forward_background(background, pixel), 0.0f);
+    if (g.coverage > 0.0f) sum += g.coverage * vec4(svo_forward_ambient(g), 1.0f);
+  }
+  if (!(g.coverage > 0.0f)) return sum;
+  SvoForwardSum f = svo_forward_samples(g, pixel, first, count);
+  return sum + vec4(g.coverage * (f.diffuse + f.specular), 0.0f);
+}
+
+// The same with the surface's diffuse part (the ambient term included) and
+// specular part apart, each times coverage, coverage in w, and nothing of
+// the background (the lobe-aware filter adds it after filtering the two).
+struct SvoForwardSplit {
+  vec4 diffuse;
+  vec4 specular;
+};
+
+SVO_FN SvoForwardSplit svo_forward_split_texel(SvoGBuffer g, uint pixel, uint first, uint count,
+                                               SvoForwardSplit previous) {
+  SvoForwardSplit sum = previous;
+  if (first == 0u) {
+    sum.diffuse = vec4(0.0f);
+    sum.specular = vec4(0.0f);
     if (g.coverage > 0.0f) {
-      SvoShadingPoint p = svo_shading_point(g);
-      vec3 a_view = svo_attribute_vl3(p.abar, p.a_s, p.lambda_v);
-      sum += g.coverage * vec4(vec3(params.ambient) * a_view, 1.0f);
+      sum.diffuse = g.coverage * vec4(svo_forward_ambient(g), 1.0f);
+      sum.specular = vec4(0.0f, 0.0f, 0.0f, g.coverage);
     }
   }
   if (!(g.coverage > 0.0f)) return sum;
-  return sum + vec4(g.coverage * svo_forward_samples(g, pixel, first, count), 0.0f);
+  SvoForwardSum f = svo_forward_samples(g, pixel, first, count);
+  sum.diffuse += vec4(g.coverage * f.diffuse, 0.0f);
+  sum.specular += vec4(g.coverage * f.specular, 0.0f);
+  return sum;
 }
 
 #endif

@@ -27,6 +27,7 @@ SVO_FN SvoMaterial svo_scene_material(uint index) {
   float alpha = svo_table(at + 7u);
   m.alpha2 = vec2(alpha * alpha);
   m.f0 = vec3(svo_table(at + 8u), svo_table(at + 9u), svo_table(at + 10u));
+  m.sg_fit = floatBitsToUint(svo_table(at + 11u));
   return m;
 }
 

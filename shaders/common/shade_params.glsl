@@ -20,7 +20,8 @@ SVO_CONST uint SVO_SHADE_LIGHT_SHADOWS = 2u;  // so do the lights
 
 struct SvoShadeParams {
   uvec4 env;        // x: width, y: height (0: no environment), z: table offset of the rgb texels, w: of the distribution
-  vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, zw: unused
+  vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, z: unused, w: table offset of a
+                    // measured BRDF's SG fit (uint bits; 0: none; lobe_filter.glsl)
   uvec4 material;   // x: kind (SVO_BRDF_*), y: table offset of a measured BRDF's values, z: of its sampling tables,
                     // w: the scene's materials in the table (0: this one alone; svo_scene_material)
   vec4 diffuse;     // rgb: diffuse albedo, tinted by the voxels' abar; w: roughness alpha (Beckmann, GGX)
@@ -37,10 +38,12 @@ struct SvoMaterial {
   float exponent;   // Phong NDF exponent
   uint merl;        // table offset of a measured BRDF's values
   uint merl_sampling;  // and of its sampling tables
+  uint sg_fit;      // and of its SG fit (svo_material_lobes; 0: none)
 };
 
 // Floats per material of the scene's table: kind, MERL values and sampling
-// offsets (uint bits), exponent, diffuse rgb, roughness alpha, f0 rgb, 0.
+// offsets (uint bits), exponent, diffuse rgb, roughness alpha, f0 rgb, the
+// MERL SG fit's offset (uint bits).
 SVO_CONST uint SVO_MATERIAL_FLOATS = 12u;
 
 SVO_FN SvoMaterial svo_material_of(SvoShadeParams sp) {
@@ -52,6 +55,7 @@ SVO_FN SvoMaterial svo_material_of(SvoShadeParams sp) {
   m.exponent = sp.specular.w;
   m.merl = sp.material.y;
   m.merl_sampling = sp.material.z;
+  m.sg_fit = floatBitsToUint(sp.env_xform.w);
   return m;
 }
 

@@ -75,4 +75,39 @@ uint32_t merl_sampling_floats();
 //        or non-finite value, or the tables would outgrow 32-bit offsets.
 std::array<uint32_t, 2> append_merl_tables(const MerlBrdf& brdf, std::vector<float>& tables);
 
+
+// One lobe of a measured BRDF's SG fit, in half-vector space about the
+// normal: the BRDF's specular part near theta_d = 0 is approximately
+// sum_k amplitude_k exp(sharpness_k (cos theta_h - 1)) (luminance, 1/sr).
+// Tokuyoshi 2015 (section 4.1) fits measured BRDFs once, in preprocessing,
+// for the lobe-aware weight of Eq. 11 (shaders/common/sg.glsl).
+struct MerlSgLobe {
+  float sharpness;
+  float amplitude;
+};
+
+// Fits at most `max_lobes` (1..3) lobes, once per BRDF (render/src/merl_sg_fit.cpp):
+// the luminance (0.2126 R + 0.7152 G + 0.0722 B) of the samples with
+// theta_d index 0..5 (all phi_d averaged; samples with a direction at or
+// below the surface, or missing, i.e. all channels 0, left out) as a
+// function of theta_h, minus a constant diffuse floor (fitted too, not
+// returned), least squares weighted by each theta_h bin's solid angle.
+// NNLS over every set of up to max_lobes values of a log-spaced dictionary
+// (64 values from 1 to 1e5), then golden-section steps in log-sharpness; a
+// lobe is added only while it lowers the weighted squared error by more
+// than 1e-5 of the data's weighted squared norm. Lobes sorted by sharpness,
+// descending; lobes whose amplitude is not positive are dropped (a
+// Lambertian BRDF gives none). Deterministic. Never NaN; sharpness within
+// [1e-2, 1e5]. Takes a few tens of milliseconds.
+// @throw std::invalid_argument if max_lobes is outside 1..3 or brdf.rgb
+//        does not hold 3 * kMerlSamples values.
+std::vector<MerlSgLobe> fit_merl_sg(const MerlBrdf& brdf, int max_lobes = 3);
+
+// The relative RMS error of `lobes` plus the best non-negative floor over
+// the samples fit_merl_sg uses: sqrt(sum w r^2 / sum w y^2) over the
+// theta_h bins (weights w their solid angles, y the mean luminance); 0 for
+// a BRDF without such samples.
+// @throw std::invalid_argument if brdf.rgb does not hold 3 * kMerlSamples values.
+double merl_sg_fit_error(const MerlBrdf& brdf, const std::vector<MerlSgLobe>& lobes);
+
 }  // namespace svo::render

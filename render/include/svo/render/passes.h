@@ -29,24 +29,71 @@ class VisibilityPass : public Pass {
   std::unique_ptr<vk::ComputeKernel> kernel_;  // made at the first run on a Vulkan host
 };
 
+// The images of the surface's diffuse and specular radiance apart (forward
+// shading with ForwardOutput::split), at 1/scale of the frame's size:
+// Rgba32f, rgb times coverage, coverage in A; nothing of the background.
+inline ImageDesc diffuse_image(uint32_t scale = 1) { return {"diffuse", TexelFormat::Rgba32f, scale}; }
+inline ImageDesc specular_image(uint32_t scale = 1) { return {"specular", TexelFormat::Rgba32f, scale}; }
+
+// What the forward pass writes: the frame's colour, or (split) the
+// diffuse part with the ambient term and the specular part apart, for the
+// lobe-aware filter, at 1/1, 1/2 or 1/4 of the frame's size (each texel
+// shaded at the G-buffer texel at its centre, shaders/common/forward.glsl,
+// svo_scaled_texel).
+struct ForwardOutput {
+  bool split = false;
+  uint32_t scale = 1;  // 1, 2, 4; other than 1 only when split
+};
+
 // Forward shading (DESIGN 10.2, shaders/common/forward.glsl): every covered
 // pixel shaded with RenderSettings::shading's environment, material and
 // samples per pixel (multiple importance sampling of the BRDF and the
 // environment) plus the lights, over the background or the environment seen
 // through the pixel: reads "gbuffer" and "background", writes "colour" (the
-// frame's colour from then on).
+// frame's colour from then on); split: reads "gbuffer", writes "diffuse" and
+// "specular".
 class ForwardPass : public Pass {
  public:
-  ForwardPass();
+  // @throw std::invalid_argument for a scale other than 1, 2, 4, or a
+  //        reduced scale without split
+  explicit ForwardPass(ForwardOutput output = {});
   ~ForwardPass() override;
-  std::string name() const override { return "forward"; }
-  std::vector<ImageDesc> reads() const override { return {gbuffer_image(), background_image()}; }
-  std::vector<ImageDesc> writes() const override { return {colour_image()}; }
+  std::string name() const override { return output_.split ? "forward-split" : "forward"; }
+  std::vector<ImageDesc> reads() const override;
+  std::vector<ImageDesc> writes() const override;
   double run(PassContext& context) override;
 
  private:
+  ForwardOutput output_;
   struct Cache;
   std::unique_ptr<Cache> cache_;  // the shading tables of the last options, and the Vulkan kernel and buffers
+};
+
+// Specular lobe-aware filtering and upsampling (Tokuyoshi 2015, DESIGN
+// 10.5; shaders/common/lobe_filter.glsl), with RenderSettings::filter's
+// weight and parameters: reads "gbuffer", "background", and "diffuse" and
+// "specular" at 1/scale (ForwardPass with split); writes "colour" and
+// "filter_weight" (Rgba32f: the total weights of the diffuse and the
+// specular image, normalised to 1 for a neighbourhood of identical pixels,
+// and 1 in z where upsampling shaded the pixel again), and at scale 1 the
+// rows' results "filter_rows_diffuse" and "filter_rows_specular".
+// At scale 1 a separable cross-bilateral filter of radius R; at 2 and 4,
+// joint bilateral upsampling with adaptive recomputation.
+class LobeFilterPass : public Pass {
+ public:
+  // @throw std::invalid_argument for a scale other than 1, 2, 4
+  explicit LobeFilterPass(uint32_t scale = 1);
+  ~LobeFilterPass() override;
+  std::string name() const override { return scale_ == 1 ? "lobe-filter" : "lobe-upsample"; }
+  std::vector<ImageDesc> reads() const override;
+  std::vector<ImageDesc> writes() const override;
+  double run(PassContext& context) override;
+  static ImageDesc weight_image() { return {"filter_weight", TexelFormat::Rgba32f}; }
+
+ private:
+  uint32_t scale_;
+  struct State;
+  std::unique_ptr<State> state_;  // the shading tables, the lobes, and the Vulkan kernels and buffers
 };
 
 // The names make_pass knows, in the order --help lists them.

@@ -98,6 +98,8 @@ struct RenderSettings {
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
   // The shading passes' environment, material and sampling (ForwardPass).
   ShadingOptions shading;
+  // The lobe-aware filter's weight and parameters (LobeFilterPass).
+  FilterOptions filter;
 };
 
 // One G-buffer texel (shaders/common/gbuffer.glsl, which says what each

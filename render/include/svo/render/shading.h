@@ -120,9 +120,28 @@ struct ShadingOptions {
   // G-buffer's material indices; used when `material` is null. The forward
   // pass fills them from the octree; the reference from the source.
   std::vector<std::shared_ptr<const Material>> scene_materials;
-  uint32_t spp = 16;                               // samples per pixel of the forward pass, >= 1
+  uint32_t spp = 16;  // samples per pixel of the forward pass, >= 1
   uint32_t seed = 1;
   bool env_shadows = false;  // environment samples see visibility cones through the octree
+};
+
+// The directional weight of the lobe-aware filter (shaders/common/
+// lobe_filter.glsl, SVO_FILTER_*; values are stable).
+enum class FilterWeight : uint32_t { None = 0, Normal = 1, Lobe = 2, Mixture = 3, Asg = 4 };
+const char* filter_weight_name(FilterWeight weight);  // "none", "normal", "lobe", "mixture", "asg"
+// @throw std::invalid_argument naming the weights there are
+FilterWeight parse_filter_weight(const std::string& name);
+
+// The lobe-aware filter's parameters (render::LobeFilterPass; Tokuyoshi 2015).
+struct FilterOptions {
+  FilterWeight weight = FilterWeight::Lobe;
+  float beta = 20.0f;      // the power of the lobe-aware weights (Eq. 11-13)
+  float sigma_n2 = 0.01f;  // the normal-aware weight's variance (Eq. 4)
+  float sigma_z = 0.05f;   // the depth weight's deviation, relative to the pixel's depth (Eq. 3)
+  float kappa = -1.0f;     // the smoothing kernel's sharpness (Eq. 9-10); < 0: none when filtering, 100 when upsampling
+  uint32_t radius = 8;     // filtering: taps on each side, per axis (the screen kernel's sigma is radius / 2)
+  float recompute = 0.25f;   // upsampling: shade again where the total weight falls under this (the paper's Fig. 16)
+  bool voxel_slopes = true;  // widen the lobes with the voxels' slope covariance
 };
 
 // The shading tables (the floats svo_table reads) and the parameters.

@@ -1,0 +1,59 @@
+#include "shading_cache.h"
+
+#include <cstring>
+
+#include "svo/render/octree_access.h"
+#include "svo/render/renderer.h"
+
+namespace svo::render {
+
+ShadingTables& ShadingCache::update(const PassContext& ctx) {
+  const OctreeAccess& octree = ctx.octree;
+  ShadingOptions options = ctx.settings.shading;
+  // Without --material: the octree's own materials, parsed once per octree.
+  if (scene_ != &octree.tree()) {
+    scene_materials_ = parse_scene_materials(octree.tree().materials, "the octree");
+    scene_ = &octree.tree();
+    valid_ = false;
+  }
+  if (options.scene_materials.empty()) options.scene_materials = scene_materials_;
+  // Nothing at all: the built-in one, the Beckmann lobe of --specular
+  // with the file's (or --roughness's) micro-BRDF slope variance.
+  const Material fallback = builtin_material(ctx.settings.specular, octree.params(ctx.settings).material.x);
+  const bool same = valid_ && environment_ == options.environment.get() && material_ == options.material.get() &&
+                    (options.material || !scene_materials_.empty() ||
+                     (default_material_.f0 == fallback.f0 && default_material_.roughness == fallback.roughness));
+  // Scene materials given in the options (not the octree's) are compared by identity too.
+  if (!same || ctx.settings.shading.scene_materials != given_scene_) {
+    tables_ = build_shading_tables(options, fallback, ctx.settings.shadows);
+    environment_ = options.environment.get();
+    material_ = options.material.get();
+    default_material_ = fallback;
+    given_scene_ = ctx.settings.shading.scene_materials;
+    valid_ = true;
+    floats_.reset();
+  }
+  ShadingTables& t = tables_;
+  t.params.env_xform = glm::vec4(glm::radians(options.env_rotate_deg), options.env_scale, 0, t.params.env_xform.w);
+  t.params.sampling = glm::uvec4(std::max(options.spp, 1u), options.seed,
+                                 (options.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
+                                     (ctx.settings.shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
+                                 t.params.sampling.w);
+  return t;
+}
+
+const vk::Buffer* ShadingCache::params_buffer(vk::Context& context) {
+  if (!params_) params_ = std::make_unique<vk::Buffer>(context, sizeof(svo::math::SvoShadeParams));
+  std::memcpy(params_->data(), &tables_.params, sizeof(tables_.params));
+  return params_.get();
+}
+
+const vk::Buffer* ShadingCache::tables_buffer(vk::Context& context) {
+  if (!floats_) {
+    floats_ = std::make_unique<vk::Buffer>(context, tables_.floats.size() * sizeof(float));
+    std::memcpy(floats_->data(), tables_.floats.data(), tables_.floats.size() * sizeof(float));
+  }
+  return floats_.get();
+}
+
+}  // namespace svo::render

@@ -1,0 +1,338 @@
+// Specular lobe-aware filtering and upsampling (Tokuyoshi 2015, DESIGN
+// 10.5; render::LobeFilterPass): the kernels of a cross-bilateral filter
+// (Eq. 1) and of joint bilateral upsampling whose directional weight
+// compares the two pixels' reflection lobes (Eq. 11, 12, 13), with the
+// normal-aware weight of Eq. 4 as the baseline, times a depth weight
+// (Eq. 3) and a screen-space kernel.
+//
+// The forward pass writes the surface's diffuse and specular radiance
+// apart (forward.glsl, svo_forward_split_texel), at 1/1, 1/2 or 1/4 of the
+// frame's size; this filter smooths each with its own lobes (the diffuse
+// image with the diffuse lobe about the normal, for which Eq. 12 is the
+// normal-aware weight, the paper's supplement; the specular image with the
+// reflection lobes) and adds them to the background at full size, as the
+// paper's section 5 filters the specular buffer apart. Steps, each a kernel
+// over the frame's texels:
+//   lobes      every pixel's lobes from the G-buffer, once (SvoPixelLobe)
+//   rows       the horizontal half of the separable filter (2R + 1 taps)
+//   columns    the vertical half, weighting each row result by its total
+//              weight (so that the two halves are one 2D kernel whose
+//              weights are the product of the two), and the composite
+//   upsample   the 2 x 2 input texels about the pixel (bilinear screen
+//              kernel); a pixel whose total weight falls under the
+//              threshold is shaded again at full size (the paper's Fig. 16)
+// Values are filtered per unit coverage and multiplied by the pixel's own.
+//
+// Host contract: forward.glsl's, plus `filter_params` (SvoFilterParams) and the
+// readers svo_filter_gbuffer(texel), svo_filter_lobe(texel),
+// svo_filter_background(texel) (full size), svo_filter_diffuse(texel) and
+// svo_filter_specular(texel) (the step's input: the forward pass's images
+// for rows and upsample, the rows' output for columns).
+#ifndef SVO_LOBE_FILTER_GLSL
+#define SVO_LOBE_FILTER_GLSL
+#include "forward.glsl"
+#include "lobe_filter_types.glsl"
+#include "sg.glsl"
+
+// A material's specular lobes in half-vector space about the normal, as
+// up to 3 (sharpness, amplitude) pairs in a vec3 each and their count:
+// the microfacet NDFs one lobe (svo_ndf_sharpness), a measured BRDF its SG
+// fit (the table at mat.sg_fit: count, then sharpness and amplitude per
+// lobe), the Lambert material the diffuse lobe's sharpness.
+struct SvoHalfLobes {
+  vec3 sharpness;
+  vec3 amplitude;
+  uint count;
+};
+
+SVO_FN SvoHalfLobes svo_material_lobes(SvoMaterial mat) {
+  SvoHalfLobes h;
+  h.sharpness = vec3(0.0f);
+  h.amplitude = vec3(0.0f);
+  h.count = 1u;
+  h.amplitude.x = 1.0f;
+  if (mat.kind == SVO_BRDF_LAMBERT) {
+    h.sharpness.x = 2.133f;
+  } else if (mat.kind == SVO_BRDF_MERL) {
+    uint n = mat.sg_fit != 0u ? min(uint(svo_table(mat.sg_fit) + 0.5f), 3u) : 0u;
+    if (n == 0u) {
+      h.sharpness.x = 100.0f;  // no fit: a moderately glossy lobe
+    } else {
+      h.count = n;
+      for (uint k = 0u; k < n; ++k) {
+        h.sharpness[k] = svo_table(mat.sg_fit + 1u + 2u * k);
+        h.amplitude[k] = svo_table(mat.sg_fit + 2u + 2u * k);
+      }
+    }
+  } else {
+    h.sharpness.x = svo_ndf_sharpness(mat.kind, mat.alpha2.x, mat.exponent, 0.0f);
+  }
+  return h;
+}
+
+// The lobes of a G-buffer texel (SvoPixelLobe, after smoothing with kappa).
+SVO_FN SvoPixelLobe svo_pixel_lobe(SvoGBuffer g) {
+  SvoPixelLobe r;
+  r.axis = vec3(0.0f, 0.0f, 1.0f);
+  r.sharpness = 0.0f;
+  r.normal = vec3(0.0f);
+  r.depth = 0.0f;
+  r.mix_sharpness = vec3(0.0f);
+  r.mix_count = 0.0f;
+  r.mix_amplitude = vec3(0.0f);
+  r.asg_ly = 0.0f;
+  r.asg_x = vec3(1.0f, 0.0f, 0.0f);
+  r.asg_lx = 0.0f;
+  if (!(g.coverage > 0.0f)) return r;
+  SvoShadingPoint p = svo_shading_point(g);
+  vec2 sn2 = filter_params.adapt.z > 0.5f ? vec2(0.0f) : max(p.sn2, vec2(0.0f));
+  float sigma2 = 0.5f * (sn2.x + sn2.y);
+  r.normal = p.n;
+  r.depth = max(g.depth, 1.0e-30f);
+  SvoSG probe = svo_reflection_lobe(p.n, p.v, 1.0f);
+  r.axis = probe.axis;
+  float jacobian = probe.sharpness;  // 1 / (4 |n.v|), clamped
+  float kappa = filter_params.weights.w;
+  // The two materials' lobes, each widened by the voxel slopes, weighted
+  // by the materials' shares; at most three kept (the largest energies).
+  SvoMaterial first = svo_scene_material(g.material);
+  SvoHalfLobes a = svo_material_lobes(first);
+  SvoHalfLobes b = svo_material_lobes(svo_scene_material(g.material2));
+  float share = g.material != g.material2 ? clamp(g.material_mix, 0.0f, 1.0f) : 1.0f;
+  float energy_sum = 0.0f;
+  float variance_sum = 0.0f;
+  uint n = 0u;
+  for (uint k = 0u; k < 6u; ++k) {
+    bool from_a = k < 3u;
+    uint m = from_a ? k : k - 3u;
+    if (m >= (from_a ? a.count : b.count)) continue;
+    float lh = from_a ? a.sharpness[m] : b.sharpness[m];
+    float amp = (from_a ? a.amplitude[m] * share : b.amplitude[m] * (1.0f - share));
+    if (!(amp > 0.0f)) continue;
+    lh = lh / (1.0f + lh * sigma2);
+    float l = lh * jacobian;
+    // The lobe's energy (its integral) decides which lobes are kept and
+    // how the single lobe merges them (variances averaged by energy).
+    float energy = amp / max(l, 1.0e-6f);
+    energy_sum += energy;
+    variance_sum += energy / max(l, 1.0e-6f);
+    SvoSG s = svo_sg_smooth(svo_sg(r.axis, l, amp), kappa);
+    if (n < 3u) {
+      r.mix_sharpness[n] = s.sharpness;
+      r.mix_amplitude[n] = s.amplitude;
+      ++n;
+    } else {
+      // Replace the weakest kept lobe if this one carries more.
+      uint weakest = 0u;
+      for (uint q = 1u; q < 3u; ++q)
+        if (r.mix_amplitude[q] / max(r.mix_sharpness[q], 1.0e-6f) <
+            r.mix_amplitude[weakest] / max(r.mix_sharpness[weakest], 1.0e-6f))
+          weakest = q;
+      if (s.amplitude / max(s.sharpness, 1.0e-6f) >
+          r.mix_amplitude[weakest] / max(r.mix_sharpness[weakest], 1.0e-6f)) {
+        r.mix_sharpness[weakest] = s.sharpness;
+        r.mix_amplitude[weakest] = s.amplitude;
+      }
+    }
+  }
+  r.mix_count = float(n);
+  float merged = energy_sum > 0.0f ? energy_sum / variance_sum : 2.133f;
+  r.sharpness = svo_sg_smooth(svo_sg(r.axis, merged, 1.0f), kappa).sharpness;
+  // The anisotropic lobe (Eq. 13): the first material's main lobe widened
+  // by the voxel slopes along their principal axes (tx, ty) apart. An SG of
+  // sharpness l is exp(-l theta^2 / 2) near its axis, an ASG of bandwidth
+  // lambda exp(-lambda theta^2): lambda = l / 2 per axis.
+  float l0 = a.sharpness.x;
+  float lx = 0.5f * jacobian * l0 / (1.0f + l0 * sn2.x);
+  float ly = 0.5f * jacobian * l0 / (1.0f + l0 * sn2.y);
+  vec3 x = p.tx - dot(p.tx, r.axis) * r.axis;
+  float xl = length(x);
+  r.asg_x = xl > 1.0e-4f ? x / xl : svo_tangent_frame(r.axis).t;
+  SvoASG asg = svo_asg_smooth(svo_asg(r.asg_x, cross(r.axis, r.asg_x), r.axis, lx, ly, 1.0f), kappa);
+  r.asg_lx = asg.lx;
+  r.asg_ly = asg.ly;
+  return r;
+}
+
+SVO_FN SvoASG svo_pixel_asg(SVO_IN(SvoPixelLobe) l) {
+  return svo_asg(l.asg_x, cross(l.axis, l.asg_x), l.axis, l.asg_lx, l.asg_ly, 1.0f);
+}
+
+// Eq. 11 for two pixels' SG mixtures sharing each pixel's axis:
+// alpha_ij / sqrt(alpha_ii alpha_jj), alpha the exact product integrals.
+SVO_FN float svo_mixture_alpha(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
+  float sum = 0.0f;
+  for (uint k = 0u; k < uint(a.mix_count); ++k)
+    for (uint m = 0u; m < uint(b.mix_count); ++m)
+      sum += svo_sg_product_integral(svo_sg(a.axis, a.mix_sharpness[k], a.mix_amplitude[k]),
+                                     svo_sg(b.axis, b.mix_sharpness[m], b.mix_amplitude[m]));
+  return sum;
+}
+
+SVO_FN float svo_weight_mixture(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b, float beta) {
+  float norm = sqrt(svo_mixture_alpha(a, a)) * sqrt(svo_mixture_alpha(b, b));
+  float q = norm > 0.0f ? clamp(svo_mixture_alpha(a, b) / norm, 0.0f, 1.0f) : 0.0f;
+  return pow(q, beta);
+}
+
+// The directional weight of sample pixel b for target pixel a, of the
+// specular image (`specular`) or the diffuse one, times the depth weight.
+SVO_FN float svo_filter_weight(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b, bool specular) {
+  if (!(b.depth > 0.0f) || !(a.depth > 0.0f)) return 0.0f;
+  float dz = (a.depth - b.depth) / (a.depth * max(filter_params.weights.z, 1.0e-6f));
+  float w = exp(-0.5f * dz * dz);
+  uint mode = filter_params.mode.x;
+  float beta = filter_params.weights.x;
+  if (mode == SVO_FILTER_NONE) return w;
+  if (mode == SVO_FILTER_NORMAL) return w * svo_weight_normal(a.normal, b.normal, filter_params.weights.y);
+  if (!specular) {
+    float kappa = filter_params.weights.w;
+    return w * svo_weight_eq12(svo_sg_smooth(svo_diffuse_lobe(a.normal), kappa),
+                               svo_sg_smooth(svo_diffuse_lobe(b.normal), kappa), beta);
+  }
+  if (mode == SVO_FILTER_LOBE)
+    return w * svo_weight_eq12(svo_sg(a.axis, a.sharpness, 1.0f), svo_sg(b.axis, b.sharpness, 1.0f), beta);
+  if (mode == SVO_FILTER_MIXTURE) return w * svo_weight_mixture(a, b, beta);
+  return w * svo_weight_eq13(svo_pixel_asg(a), svo_pixel_asg(b), beta);
+}
+
+// The screen kernel at d pixels.
+SVO_FN float svo_filter_screen(float d) {
+  float s = max(filter_params.adapt.y, 1.0e-3f);
+  return exp(-0.5f * d * d / (s * s));
+}
+
+// What a filter step gives a texel: the diffuse and specular values per
+// unit coverage (rgb) with their total weights (w), or, from the last step,
+// the frame's colour (diffuse) and the totals (specular: x diffuse, y
+// specular, z 1 where the pixel was shaded again).
+struct SvoFilterOut {
+  vec4 diffuse;
+  vec4 specular;
+};
+
+// A row of 2R + 1 taps about texel `texel` (full size; input at 1/1).
+SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
+  uint w = params.image.x;
+  int x = int(texel % w);
+  int radius = int(filter_params.mode.y);
+  SvoPixelLobe a = svo_filter_lobe(texel);
+  vec4 d = vec4(0.0f);
+  vec4 s = vec4(0.0f);
+  float norm = 0.0f;
+  for (int dx = -radius; dx <= radius; ++dx) {
+    float f = svo_filter_screen(float(dx));
+    norm += f;
+    int xj = x + dx;
+    if (xj < 0 || xj >= int(w)) continue;
+    uint j = uint(int(texel) + dx);
+    SvoPixelLobe b = svo_filter_lobe(j);
+    if (!(b.depth > 0.0f)) continue;
+    vec4 dj = svo_filter_diffuse(j);
+    vec4 sj = svo_filter_specular(j);
+    if (!(dj.w > 0.0f)) continue;
+    float wd = f * svo_filter_weight(a, b, false);
+    float ws = f * svo_filter_weight(a, b, true);
+    d += vec4(wd * vec3(dj) / dj.w, wd);
+    s += vec4(ws * vec3(sj) / sj.w, ws);
+  }
+  SvoFilterOut o;
+  o.diffuse = d.w > 0.0f ? vec4(vec3(d) / d.w, d.w / norm) : vec4(0.0f);
+  o.specular = s.w > 0.0f ? vec4(vec3(s) / s.w, s.w / norm) : vec4(0.0f);
+  return o;
+}
+
+// The column of 2R + 1 row results about `texel`, each weighted by its
+// own total, and the composite: the background plus coverage times the
+// filtered diffuse and specular values.
+SVO_FN SvoFilterOut svo_filter_columns_texel(uint texel) {
+  uint w = params.image.x;
+  int y = int(texel / w);
+  int radius = int(filter_params.mode.y);
+  SvoPixelLobe a = svo_filter_lobe(texel);
+  vec4 d = vec4(0.0f);
+  vec4 s = vec4(0.0f);
+  float norm = 0.0f;
+  for (int dy = -radius; dy <= radius; ++dy) {
+    float f = svo_filter_screen(float(dy));
+    norm += f;
+    int yj = y + dy;
+    if (yj < 0 || yj >= int(params.image.y)) continue;
+    uint j = uint(int(texel) + dy * int(w));
+    SvoPixelLobe b = svo_filter_lobe(j);
+    if (!(b.depth > 0.0f)) continue;
+    vec4 dj = svo_filter_diffuse(j);
+    vec4 sj = svo_filter_specular(j);
+    float wd = f * svo_filter_weight(a, b, false) * dj.w;
+    float ws = f * svo_filter_weight(a, b, true) * sj.w;
+    d += vec4(wd * vec3(dj), wd);
+    s += vec4(ws * vec3(sj), ws);
+  }
+  SvoGBuffer g = svo_filter_gbuffer(texel);
+  vec3 colour = svo_forward_background(svo_filter_background(texel), texel);
+  if (g.coverage > 0.0f) {
+    if (d.w > 0.0f) colour += g.coverage * vec3(d) / d.w;
+    if (s.w > 0.0f) colour += g.coverage * vec3(s) / s.w;
+  }
+  SvoFilterOut o;
+  o.diffuse = vec4(colour, g.coverage);
+  o.specular = vec4(d.w / norm, s.w / norm, 0.0f, 0.0f);
+  return o;
+}
+
+// Joint bilateral upsampling from input texels at 1/scale of the frame's
+// size: the 2 x 2 input texels about the pixel, each standing for the
+// G-buffer texel at its centre; bilinear screen weights. Below the
+// threshold of total weight the pixel is shaded again (forward.glsl).
+SVO_FN SvoFilterOut svo_filter_upsample_texel(uint texel) {
+  uint w = params.image.x;
+  uint h = params.image.y;
+  uint scale = max(filter_params.mode.z, 1u);
+  uint lw = (w + scale - 1u) / scale;
+  uint lh = (h + scale - 1u) / scale;
+  uint x = texel % w;
+  uint y = texel / w;
+  SvoPixelLobe a = svo_filter_lobe(texel);
+  vec2 u = (vec2(float(x), float(y)) + 0.5f) / float(scale) - 0.5f;
+  vec2 base = floor(u);
+  vec2 frac = u - base;
+  vec4 d = vec4(0.0f);
+  vec4 s = vec4(0.0f);
+  for (uint k = 0u; k < 4u; ++k) {
+    int cx = int(base.x) + int(k & 1u);
+    int cy = int(base.y) + int(k >> 1u);
+    if (cx < 0 || cy < 0 || cx >= int(lw) || cy >= int(lh)) continue;
+    float f = ((k & 1u) != 0u ? frac.x : 1.0f - frac.x) * ((k >> 1u) != 0u ? frac.y : 1.0f - frac.y);
+    uint low = uint(cy) * lw + uint(cx);
+    SvoPixelLobe b = svo_filter_lobe(svo_scaled_texel(low, scale));
+    vec4 dj = svo_filter_diffuse(low);
+    vec4 sj = svo_filter_specular(low);
+    if (!(dj.w > 0.0f)) continue;
+    float wd = f * svo_filter_weight(a, b, false);
+    float ws = f * svo_filter_weight(a, b, true);
+    d += vec4(wd * vec3(dj) / dj.w, wd);
+    s += vec4(ws * vec3(sj) / sj.w, ws);
+  }
+  SvoGBuffer g = svo_filter_gbuffer(texel);
+  vec3 colour = svo_forward_background(svo_filter_background(texel), texel);
+  float again = 0.0f;
+  if (g.coverage > 0.0f) {
+    float threshold = filter_params.adapt.x;
+    if (d.w < threshold || s.w < threshold || !(d.w > 0.0f) || !(s.w > 0.0f)) {
+      SvoForwardSplit empty;
+      empty.diffuse = vec4(0.0f);
+      empty.specular = vec4(0.0f);
+      SvoForwardSplit f = svo_forward_split_texel(g, texel, 0u, shade.sampling.x, empty);
+      colour += vec3(f.diffuse) + vec3(f.specular);
+      again = 1.0f;
+    } else {
+      colour += g.coverage * (vec3(d) / d.w + vec3(s) / s.w);
+    }
+  }
+  SvoFilterOut o;
+  o.diffuse = vec4(colour, g.coverage);
+  o.specular = vec4(d.w, s.w, again, 0.0f);
+  return o;
+}
+
+#endif
