@@ -389,6 +389,8 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   add_bench_figure_commands(*bench, exit_code);
 
   add_bench_zoom_command(*bench, exit_code);
+
+  add_bench_lobe_command(*bench, exit_code);
 }
 
 }  // namespace svo::tools

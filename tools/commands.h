@@ -16,6 +16,8 @@ inline constexpr const char* kDeviceHelp =
 void add_bench_command(CLI::App& app, int& exit_code);
 // svo bench zoom, registered on the bench subcommand by add_bench_command.
 void add_bench_zoom_command(CLI::App& bench, int& exit_code);
+// svo bench lobe-filter (cmd_bench_lobe.cpp): Tokuyoshi 2015's figures.
+void add_bench_lobe_command(CLI::App& bench, int& exit_code);
 void add_compare_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
 void add_devices_command(CLI::App& app, int& exit_code);

@@ -28,7 +28,7 @@ struct NativeLobeFilter : render::NativeOctreeReader, render::NativeShadingReade
   SvoGBuffer svo_filter_gbuffer(uint32_t t) { return render::gbuffer_at(gbuffer + kGBufferVec4s * t); }
   SvoPixelLobe svo_filter_lobe(uint32_t t) {
     const glm::vec4* l = lobes + SVO_LOBE_VEC4S * t;
-    return svo_lobe_unpack(l[0], l[1], l[2], l[3], l[4]);
+    return svo_lobe_unpack(l[0], l[1], l[2], l[3], l[4], l[5]);
   }
   glm::vec4 svo_filter_background(uint32_t t) const { return background[t]; }
   glm::vec4 svo_filter_diffuse(uint32_t t) const { return in_diffuse[t]; }

@@ -70,6 +70,21 @@ SVO_FN SvoHalfLobes svo_material_lobes(SvoMaterial mat) {
   return h;
 }
 
+SVO_FN SvoASG svo_pixel_asg(SVO_IN(SvoPixelLobe) l) {
+  return svo_asg(l.asg_x, cross(l.axis, l.asg_x), l.axis, l.asg_lx, l.asg_ly, 1.0f);
+}
+
+// Eq. 11 for two pixels' SG mixtures sharing each pixel's axis:
+// alpha_ij / sqrt(alpha_ii alpha_jj), alpha the exact product integrals.
+SVO_FN float svo_mixture_alpha(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
+  float sum = 0.0f;
+  for (uint k = 0u; k < uint(a.mix_count); ++k)
+    for (uint m = 0u; m < uint(b.mix_count); ++m)
+      sum += svo_sg_product_integral(svo_sg(a.axis, a.mix_sharpness[k], a.mix_amplitude[k]),
+                                     svo_sg(b.axis, b.mix_sharpness[m], b.mix_amplitude[m]));
+  return sum;
+}
+
 // The lobes of a G-buffer texel (SvoPixelLobe, after smoothing with kappa).
 SVO_FN SvoPixelLobe svo_pixel_lobe(SvoGBuffer g) {
   SvoPixelLobe r;
@@ -83,6 +98,8 @@ SVO_FN SvoPixelLobe svo_pixel_lobe(SvoGBuffer g) {
   r.asg_ly = 0.0f;
   r.asg_x = vec3(1.0f, 0.0f, 0.0f);
   r.asg_lx = 0.0f;
+  r.asg_norm = 0.0f;
+  r.mix_norm = 0.0f;
   if (!(g.coverage > 0.0f)) return r;
   SvoShadingPoint p = svo_shading_point(g);
   vec2 sn2 = filter_params.adapt.z > 0.5f ? vec2(0.0f) : max(p.sn2, vec2(0.0f));
@@ -151,49 +168,49 @@ SVO_FN SvoPixelLobe svo_pixel_lobe(SvoGBuffer g) {
   SvoASG asg = svo_asg_smooth(svo_asg(r.asg_x, cross(r.axis, r.asg_x), r.axis, lx, ly, 1.0f), kappa);
   r.asg_lx = asg.lx;
   r.asg_ly = asg.ly;
+  SvoASG unit = svo_pixel_asg(r);
+  r.asg_norm = sqrt(svo_asg_product_integral(unit, unit));
+  r.mix_norm = sqrt(svo_mixture_alpha(r, r));
   return r;
 }
 
-SVO_FN SvoASG svo_pixel_asg(SVO_IN(SvoPixelLobe) l) {
-  return svo_asg(l.asg_x, cross(l.axis, l.asg_x), l.axis, l.asg_lx, l.asg_ly, 1.0f);
-}
-
-// Eq. 11 for two pixels' SG mixtures sharing each pixel's axis:
-// alpha_ij / sqrt(alpha_ii alpha_jj), alpha the exact product integrals.
-SVO_FN float svo_mixture_alpha(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
-  float sum = 0.0f;
-  for (uint k = 0u; k < uint(a.mix_count); ++k)
-    for (uint m = 0u; m < uint(b.mix_count); ++m)
-      sum += svo_sg_product_integral(svo_sg(a.axis, a.mix_sharpness[k], a.mix_amplitude[k]),
-                                     svo_sg(b.axis, b.mix_sharpness[m], b.mix_amplitude[m]));
-  return sum;
-}
-
 SVO_FN float svo_weight_mixture(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b, float beta) {
-  float norm = sqrt(svo_mixture_alpha(a, a)) * sqrt(svo_mixture_alpha(b, b));
+  float norm = a.mix_norm * b.mix_norm;
   float q = norm > 0.0f ? clamp(svo_mixture_alpha(a, b) / norm, 0.0f, 1.0f) : 0.0f;
   return pow(q, beta);
 }
 
-// The directional weight of sample pixel b for target pixel a, of the
-// specular image (`specular`) or the diffuse one, times the depth weight.
-SVO_FN float svo_filter_weight(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b, bool specular) {
-  if (!(b.depth > 0.0f) || !(a.depth > 0.0f)) return 0.0f;
+// Eq. 13 with the pixels' own normalisations (SvoPixelLobe::asg_norm).
+SVO_FN float svo_weight_asg(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b, float beta) {
+  float norm = a.asg_norm * b.asg_norm;
+  float q = norm > 0.0f ? clamp(svo_asg_product_integral(svo_pixel_asg(a), svo_pixel_asg(b)) / norm, 0.0f, 1.0f)
+                        : 0.0f;
+  return pow(q, beta);
+}
+
+// The weights of sample pixel b for target pixel a: x for the diffuse
+// image, y for the specular one, each with the depth weight.
+SVO_FN vec2 svo_filter_weights(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
+  if (!(b.depth > 0.0f) || !(a.depth > 0.0f)) return vec2(0.0f);
   float dz = (a.depth - b.depth) / (a.depth * max(filter_params.weights.z, 1.0e-6f));
   float w = exp(-0.5f * dz * dz);
   uint mode = filter_params.mode.x;
   float beta = filter_params.weights.x;
-  if (mode == SVO_FILTER_NONE) return w;
-  if (mode == SVO_FILTER_NORMAL) return w * svo_weight_normal(a.normal, b.normal, filter_params.weights.y);
-  if (!specular) {
-    float kappa = filter_params.weights.w;
-    return w * svo_weight_eq12(svo_sg_smooth(svo_diffuse_lobe(a.normal), kappa),
-                               svo_sg_smooth(svo_diffuse_lobe(b.normal), kappa), beta);
+  if (mode == SVO_FILTER_NONE) return vec2(w);
+  if (mode == SVO_FILTER_NORMAL) return vec2(w * svo_weight_normal(a.normal, b.normal, filter_params.weights.y));
+  // The diffuse lobes: Eq. 12 for two lobes of one sharpness l is the
+  // normal-aware weight of variance 2 / (beta l) (the paper's supplement).
+  float ld = svo_sg_smooth(svo_diffuse_lobe(a.normal), filter_params.weights.w).sharpness;
+  float wd = beta > 0.0f ? svo_weight_normal(a.normal, b.normal, 2.0f / (beta * ld)) : 1.0f;
+  float ws;
+  if (mode == SVO_FILTER_LOBE) {
+    ws = svo_weight_eq12(svo_sg(a.axis, a.sharpness, 1.0f), svo_sg(b.axis, b.sharpness, 1.0f), beta);
+  } else if (mode == SVO_FILTER_MIXTURE) {
+    ws = svo_weight_mixture(a, b, beta);
+  } else {
+    ws = svo_weight_asg(a, b, beta);
   }
-  if (mode == SVO_FILTER_LOBE)
-    return w * svo_weight_eq12(svo_sg(a.axis, a.sharpness, 1.0f), svo_sg(b.axis, b.sharpness, 1.0f), beta);
-  if (mode == SVO_FILTER_MIXTURE) return w * svo_weight_mixture(a, b, beta);
-  return w * svo_weight_eq13(svo_pixel_asg(a), svo_pixel_asg(b), beta);
+  return w * vec2(wd, ws);
 }
 
 // The screen kernel at d pixels.
@@ -231,10 +248,9 @@ SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
     vec4 dj = svo_filter_diffuse(j);
     vec4 sj = svo_filter_specular(j);
     if (!(dj.w > 0.0f)) continue;
-    float wd = f * svo_filter_weight(a, b, false);
-    float ws = f * svo_filter_weight(a, b, true);
-    d += vec4(wd * vec3(dj) / dj.w, wd);
-    s += vec4(ws * vec3(sj) / sj.w, ws);
+    vec2 wt = f * svo_filter_weights(a, b);
+    d += vec4(wt.x * vec3(dj) / dj.w, wt.x);
+    s += vec4(wt.y * vec3(sj) / sj.w, wt.y);
   }
   SvoFilterOut o;
   o.diffuse = d.w > 0.0f ? vec4(vec3(d) / d.w, d.w / norm) : vec4(0.0f);
@@ -263,10 +279,9 @@ SVO_FN SvoFilterOut svo_filter_columns_texel(uint texel) {
     if (!(b.depth > 0.0f)) continue;
     vec4 dj = svo_filter_diffuse(j);
     vec4 sj = svo_filter_specular(j);
-    float wd = f * svo_filter_weight(a, b, false) * dj.w;
-    float ws = f * svo_filter_weight(a, b, true) * sj.w;
-    d += vec4(wd * vec3(dj), wd);
-    s += vec4(ws * vec3(sj), ws);
+    vec2 wt = f * svo_filter_weights(a, b) * vec2(dj.w, sj.w);
+    d += vec4(wt.x * vec3(dj), wt.x);
+    s += vec4(wt.y * vec3(sj), wt.y);
   }
   SvoGBuffer g = svo_filter_gbuffer(texel);
   vec3 colour = svo_forward_background(svo_filter_background(texel), texel);
@@ -308,10 +323,9 @@ SVO_FN SvoFilterOut svo_filter_upsample_texel(uint texel) {
     vec4 dj = svo_filter_diffuse(low);
     vec4 sj = svo_filter_specular(low);
     if (!(dj.w > 0.0f)) continue;
-    float wd = f * svo_filter_weight(a, b, false);
-    float ws = f * svo_filter_weight(a, b, true);
-    d += vec4(wd * vec3(dj) / dj.w, wd);
-    s += vec4(ws * vec3(sj) / sj.w, ws);
+    vec2 wt = f * svo_filter_weights(a, b);
+    d += vec4(wt.x * vec3(dj) / dj.w, wt.x);
+    s += vec4(wt.y * vec3(sj) / sj.w, wt.y);
   }
   SvoGBuffer g = svo_filter_gbuffer(texel);
   vec3 colour = svo_forward_background(svo_filter_background(texel), texel);

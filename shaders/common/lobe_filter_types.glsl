@@ -40,19 +40,22 @@ struct SvoPixelLobe {
   float asg_ly;         // Eq. 13's ASG: bandwidths along x and z cross x
   vec3 asg_x;
   float asg_lx;
+  float asg_norm;       // sqrt of the ASG's product integral with itself (Eq. 13's normalisation)
+  float mix_norm;       // sqrt of the mixture's alpha_ii (Eq. 11's)
 };
 
-SVO_CONST uint SVO_LOBE_VEC4S = 5u;
+SVO_CONST uint SVO_LOBE_VEC4S = 6u;
 
 SVO_FN vec4 svo_lobe_pack(SvoPixelLobe l, uint k) {
   if (k == 0u) return vec4(l.axis, l.sharpness);
   if (k == 1u) return vec4(l.normal, l.depth);
   if (k == 2u) return vec4(l.mix_sharpness, l.mix_count);
   if (k == 3u) return vec4(l.mix_amplitude, l.asg_ly);
-  return vec4(l.asg_x, l.asg_lx);
+  if (k == 4u) return vec4(l.asg_x, l.asg_lx);
+  return vec4(l.asg_norm, l.mix_norm, 0.0f, 0.0f);
 }
 
-SVO_FN SvoPixelLobe svo_lobe_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4) {
+SVO_FN SvoPixelLobe svo_lobe_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4, vec4 v5) {
   SvoPixelLobe l;
   l.axis = vec3(v0);
   l.sharpness = v0.w;
@@ -64,12 +67,14 @@ SVO_FN SvoPixelLobe svo_lobe_unpack(vec4 v0, vec4 v1, vec4 v2, vec4 v3, vec4 v4)
   l.asg_ly = v3.w;
   l.asg_x = vec3(v4);
   l.asg_lx = v4.w;
+  l.asg_norm = v5.x;
+  l.mix_norm = v5.y;
   return l;
 }
 
 #define SVO_LOBE_LOAD(buffer, texel)                                                                   \
   svo_lobe_unpack(buffer[SVO_LOBE_VEC4S * (texel)], buffer[SVO_LOBE_VEC4S * (texel) + 1u],         \
                   buffer[SVO_LOBE_VEC4S * (texel) + 2u], buffer[SVO_LOBE_VEC4S * (texel) + 3u],   \
-                  buffer[SVO_LOBE_VEC4S * (texel) + 4u])
+                  buffer[SVO_LOBE_VEC4S * (texel) + 4u], buffer[SVO_LOBE_VEC4S * (texel) + 5u])
 
 #endif
