@@ -196,12 +196,13 @@ void run_lobe_bench(const LobeArgs& a) {
   const octree::Octree grooves = wants(2) ? build("grooved-cylinder", a.resolution, bar) : octree::Octree{};
   const octree::Octree bumpy = wants(5) ? build("bumpy-sphere", a.resolution, bar) : octree::Octree{};
 
+  render::RenderSettings lit;  // the environment, read once
+  apply_lighting(lighting, lit);
   auto settings_of = [&](const octree::Octree& tree, const std::string& view, uint32_t w, uint32_t h) {
-    render::RenderSettings s;
+    render::RenderSettings s = lit;
     s.width = w;
     s.height = h;
     s.camera = render::view_preset(tree, view, float(w) / float(h));
-    apply_lighting(lighting, s);
     s.lights.clear();
     s.shading.spp = a.spp;
     s.shading.seed = 1;
@@ -327,49 +328,69 @@ void run_lobe_bench(const LobeArgs& a) {
               bench::strip({{&runs.noisy, &n.best_frame, &l.best_frame, &s.best_frame, &runs.reference}}));
   }
 
-  // --- 3. Figs. 14-16: upsampling from 1/4.
+  // --- 3. Figs. 14-16: upsampling from 1/4. As in Fig. 14, each weight's
+  // parameter is chosen once, on the rough image, and kept for the sharp and
+  // the mixed one.
   if (part(3)) {
     bar.update("upsampling", 0);
-    Runs runs(mixed, a.device, a.reference_spp, 4);
-    md << "## 3. Upsampling from 1/4 (Figs. 14-16): the mixed image, " << a.upsample_spp
-       << " spp at 1/4 of the size, kappa 100, fixed sigma_n^2 = 0.01 and beta = 20\n\n"
-       << "| weight | recompute under | MSE | pixels shaded again |\n|---|---|---|---|\n";
-    std::vector<const render::Frame*> row;
-    std::vector<render::Frame> frames;
-    frames.reserve(4);
+    std::vector<Scene> ups{singles.front(), singles.back(), mixed};
+    for (Scene& scene : ups) scene.settings.shading.spp = a.upsample_spp;
+    std::vector<std::unique_ptr<Runs>> runs;
+    for (const Scene& scene : ups) runs.push_back(std::make_unique<Runs>(scene, a.device, a.reference_spp, 4));
+    md << "## 3. Upsampling from 1/4 (Figs. 14-16): " << a.upsample_spp
+       << " spp at 1/4 of the size, kappa 100; each weight's parameter chosen on " << ups[0].name
+       << " (the rough image) and kept\n\n"
+       << "| weight | parameter | " << ups[0].name << " | " << ups[1].name << " | " << ups[2].name << " | "
+       << ups[2].name << ", recomputed under 0.25 | pixels shaded again |\n|---|---|---|---|---|---|---|\n";
     nlohmann::json up = nlohmann::json::array();
+    std::vector<render::Frame> frames;
     for (auto weight : {render::FilterWeight::Normal, render::FilterWeight::Lobe}) {
-      for (float threshold : {0.0f, 0.25f}) {
-        render::FilterOptions f;
-        f.weight = weight;
-        f.sigma_n2 = 0.01f;
-        f.beta = 20.0f;
-        f.recompute = threshold;
-        frames.push_back(runs.run(f, a.upsample_spp));
-        const double again = runs.shaded_again();
-        const double e = mse(frames.back(), runs.reference);
-        md << "| " << render::filter_weight_name(weight) << " | " << threshold << " | " << sci(e) << " | "
-           << bench::fmt(100.0 * again, 1) << "% |\n";
-        up.push_back({{"weight", render::filter_weight_name(weight)},
-                      {"recompute", threshold},
-                      {"mse", e},
-                      {"shaded_again", again}});
-        csv << "fig14,mixed," << render::filter_weight_name(weight) << ",recompute," << threshold << "," << e << "\n";
-        bar.update("upsampling", double(frames.size()) / 4.0);
+      const bool lobe = weight == render::FilterWeight::Lobe;
+      render::FilterOptions f;
+      f.weight = weight;
+      f.recompute = 0.0f;
+      const Sweep tuned = sweep(*runs[0], f, lobe, lobe ? kBetas : kSigmas, [&](double x) {
+        bar.update("upsampling " + std::string(render::filter_weight_name(weight)), 0.5 * (x + (lobe ? 1 : 0)));
+      });
+      const float value = (lobe ? kBetas : kSigmas)[tuned.best];
+      (lobe ? f.beta : f.sigma_n2) = value;
+      md << "| " << render::filter_weight_name(weight) << " | " << (lobe ? "beta " : "sigma_n^2 ") << value;
+      nlohmann::json row{{"weight", render::filter_weight_name(weight)}, {"parameter", value}};
+      for (size_t k = 0; k < ups.size(); ++k) {
+        frames.push_back(runs[k]->run(f));
+        const double e = mse(frames.back(), runs[k]->reference);
+        md << " | " << sci(e);
+        row[ups[k].name] = e;
+        csv << "fig14," << ups[k].name << "," << render::filter_weight_name(weight) << ",recompute,0," << e << "\n";
       }
+      render::FilterOptions again = f;
+      again.recompute = 0.25f;
+      frames.push_back(runs[2]->run(again));
+      const double e = mse(frames.back(), runs[2]->reference);
+      const double shaded = runs[2]->shaded_again();
+      md << " | " << sci(e) << " | " << bench::fmt(100.0 * shaded, 1) << "% |\n";
+      row["mixed_recomputed"] = e;
+      row["shaded_again"] = shaded;
+      csv << "fig14," << ups[2].name << "," << render::filter_weight_name(weight) << ",recompute,0.25," << e << "\n";
+      up.push_back(row);
     }
-    for (const auto& f : frames) row.push_back(&f);
-    row.push_back(&runs.reference);
-    write_png(dir / "upsample-strip.png", bench::strip({row}));
+    // frames: normal rough, sharp, mixed, mixed recomputed; then the same for lobe.
+    write_png(dir / "upsample-strip.png", bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
+                                                        {&frames[2], &frames[6], &runs[2]->reference},
+                                                        {&frames[3], &frames[7], &runs[2]->reference}}));
     results["fig14"] = up;
-    md << "\nStrip (`upsample-strip.png`): normal without and with recomputation, lobe without and with, "
-          "reference.\n\n";
+    md << "\nStrip (`upsample-strip.png`), rows " << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
+       << " recomputed under 0.25; columns normal-aware, lobe-aware, reference.\n\n";
   }
   // --- 5. The voxels' slopes as the lobe: the bumpy sphere seen from afar,
   // a sharp material, lobes with and without the voxels' slope covariance.
   if (part(5)) {
     bar.update("voxel slopes", 0);
+    // Three times farther than the far preset: the bumps are under a pixel,
+    // so that the voxels' slopes carry them.
     Scene b{"bumpy-far", &bumpy, settings_of(bumpy, "far", a.size, a.size)};
+    render::Camera& c = b.settings.camera;
+    c.eye = c.target + 3.0f * (c.eye - c.target);
     b.settings.shading.material = specular_material("beckmann-0.05", BrdfKind::Beckmann, 100, 0.05f);
     Runs runs(b, a.device, a.reference_spp, 1);
     auto progress = [&](double f) { bar.update("voxel slopes", f); };
@@ -382,7 +403,8 @@ void run_lobe_bench(const LobeArgs& a) {
     const Sweep n = sweep(runs, normal, false, kSigmas, progress);
     const Sweep w = sweep(runs, with, true, kBetas, progress);
     const Sweep o = sweep(runs, without, true, kBetas, progress);
-    md << "## 5. The voxels' slope covariance as the lobe: bumpy sphere, far view, Beckmann alpha 0.05\n\n"
+    md << "## 5. The voxels' slope covariance as the lobe: bumpy sphere, 3x the far view's distance, Beckmann "
+          "alpha 0.05\n\n"
        << "| lobes | best parameter | MSE |\n|---|---|---|\n"
        << "| unfiltered | | " << sci(mse(runs.noisy, runs.reference)) << " |\n"
        << "| normal-aware (Eq. 4) | sigma_n^2 " << kSigmas[n.best] << " | " << sci(n.mse[n.best]) << " |\n"
