@@ -76,7 +76,8 @@ Kernel::SvoFilterParams filter_params(const FilterOptions& o, uint32_t scale, ui
   const float kappa = o.kappa >= 0 ? o.kappa : scale == 1 ? FLT_MAX : 100.0f;
   p.mode = glm::uvec4(uint32_t(o.weight), o.radius, scale, step);
   p.weights = glm::vec4(o.beta, o.sigma_n2, o.sigma_z, kappa);
-  p.adapt = glm::vec4(o.recompute, std::max(0.5f * float(o.radius), 0.5f), o.voxel_slopes ? 0.0f : 1.0f, 0.0f);
+  p.adapt = glm::vec4(o.recompute, std::max(0.5f * float(o.radius), 0.5f), o.voxel_slopes ? 0.0f : 1.0f,
+                      Kernel{}.svo_filter_diffuse_variance(o.beta, kappa));
   return p;
 }
 

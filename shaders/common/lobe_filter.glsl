@@ -199,9 +199,9 @@ SVO_FN vec2 svo_filter_weights(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
   if (mode == SVO_FILTER_NONE) return vec2(w);
   if (mode == SVO_FILTER_NORMAL) return vec2(w * svo_weight_normal(a.normal, b.normal, filter_params.weights.y));
   // The diffuse lobes: Eq. 12 for two lobes of one sharpness l is the
-  // normal-aware weight of variance 2 / (beta l) (the paper's supplement).
-  float ld = svo_sg_smooth(svo_diffuse_lobe(a.normal), filter_params.weights.w).sharpness;
-  float wd = beta > 0.0f ? svo_weight_normal(a.normal, b.normal, 2.0f / (beta * ld)) : 1.0f;
+  // normal-aware weight of variance 2 / (beta l) (the paper's supplement),
+  // which the host computes once (adapt.w; svo_filter_diffuse_variance).
+  float wd = filter_params.adapt.w > 0.0f ? svo_weight_normal(a.normal, b.normal, filter_params.adapt.w) : 1.0f;
   float ws;
   if (mode == SVO_FILTER_LOBE) {
     ws = svo_weight_eq12(svo_sg(a.axis, a.sharpness, 1.0f), svo_sg(b.axis, b.sharpness, 1.0f), beta);
@@ -211,6 +211,13 @@ SVO_FN vec2 svo_filter_weights(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
     ws = svo_weight_asg(a, b, beta);
   }
   return w * vec2(wd, ws);
+}
+
+// The variance of the normal-aware weight equal to Eq. 12 for two diffuse
+// lobes smoothed by kappa, at power beta (0: the weight is 1).
+SVO_FN float svo_filter_diffuse_variance(float beta, float kappa) {
+  float ld = svo_sg_smooth(svo_diffuse_lobe(vec3(0.0f, 0.0f, 1.0f)), kappa).sharpness;
+  return beta > 0.0f && ld > 0.0f ? 2.0f / (beta * ld) : 0.0f;
 }
 
 // The screen kernel at d pixels.

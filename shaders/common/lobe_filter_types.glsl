@@ -23,7 +23,8 @@ struct SvoFilterParams {
   uvec4 mode;     // x: weight (SVO_FILTER_*), y: radius R (pixels), z: input scale (1, 2, 4), w: step
   vec4 weights;   // x: beta, y: sigma_n^2, z: sigma_z (of the depth relative to the pixel's), w: kappa (> 3e38: none)
   vec4 adapt;     // x: total weight under which upsampling shades a pixel again (0: never),
-                  // y: the screen kernel's sigma (pixels), z: 1 to leave the voxels' slopes out of the lobes, w: 0
+                  // y: the screen kernel's sigma (pixels), z: 1 to leave the voxels' slopes out of the lobes,
+                  // w: the diffuse lobes' weight as a normal-aware variance (svo_filter_diffuse_variance)
 };
 
 // A pixel's lobes, the rows' input: the specular lobes share one axis (the
