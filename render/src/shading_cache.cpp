@@ -20,14 +20,14 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
   // Nothing at all: the built-in one, the Beckmann lobe of --specular
   // with the file's (or --roughness's) micro-BRDF slope variance.
   const Material fallback = builtin_material(ctx.settings.specular, octree.params(ctx.settings).material.x);
-  const bool same = valid_ && environment_ == options.environment.get() && material_ == options.material.get() &&
+  const bool same = valid_ && environment_ == options.environment && material_ == options.material &&
                     (options.material || !scene_materials_.empty() ||
                      (default_material_.f0 == fallback.f0 && default_material_.roughness == fallback.roughness));
   // Scene materials given in the options (not the octree's) are compared by identity too.
   if (!same || ctx.settings.shading.scene_materials != given_scene_) {
     tables_ = build_shading_tables(options, fallback, ctx.settings.shadows);
-    environment_ = options.environment.get();
-    material_ = options.material.get();
+    environment_ = options.environment;
+    material_ = options.material;
     default_material_ = fallback;
     given_scene_ = ctx.settings.shading.scene_materials;
     valid_ = true;

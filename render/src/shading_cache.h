@@ -25,9 +25,10 @@ class ShadingCache {
   const vk::Buffer* tables_buffer(vk::Context& context);
 
  private:
-  // What the tables were built from.
-  const Environment* environment_ = nullptr;
-  const Material* material_ = nullptr;
+  // What the tables were built from, held so that a new object cannot
+  // take a freed one's address and pass for it.
+  std::shared_ptr<const Environment> environment_;
+  std::shared_ptr<const Material> material_;
   Material default_material_;
   const octree::Octree* scene_ = nullptr;  // whose materials scene_materials_ holds
   std::vector<std::shared_ptr<const Material>> scene_materials_;
