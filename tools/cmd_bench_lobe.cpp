@@ -350,6 +350,8 @@ void run_lobe_bench(const LobeArgs& a) {
        << ups[2].name << ", recomputed under 0.25 | pixels shaded again |\n|---|---|---|---|---|---|---|\n";
     nlohmann::json up = nlohmann::json::array();
     std::vector<render::Frame> frames;
+    double lobe_share = 0;
+    render::FilterOptions tuned_normal;
     for (auto weight : {render::FilterWeight::Normal, render::FilterWeight::Lobe}) {
       const bool lobe = weight == render::FilterWeight::Lobe;
       render::FilterOptions f;
@@ -379,6 +381,30 @@ void run_lobe_bench(const LobeArgs& a) {
       row["shaded_again"] = shaded;
       csv << "fig14," << ups[2].name << "," << render::filter_weight_name(weight) << ",recompute,0.25," << e << "\n";
       up.push_back(row);
+      if (lobe) lobe_share = shaded;
+      if (!lobe) tuned_normal = f;
+    }
+    // At equal cost: the normal-aware weight with the threshold that shades
+    // about as many pixels again as the lobe-aware one does under 0.25.
+    {
+      double best_gap = 2, matched_mse = 0, matched_share = 0;
+      float matched = 0;
+      for (float t = 0.05f; t < 0.999f; t += 0.05f) {
+        render::FilterOptions f = tuned_normal;
+        f.recompute = t;
+        const render::Frame frame = runs[2]->run(f);
+        const double share = runs[2]->shaded_again();
+        if (std::abs(share - lobe_share) < best_gap) {
+          best_gap = std::abs(share - lobe_share);
+          matched = t;
+          matched_mse = mse(frame, runs[2]->reference);
+          matched_share = share;
+        }
+      }
+      md << "| normal, threshold matched to the lobe's share | sigma_n^2 " << tuned_normal.sigma_n2 << " | | | | "
+         << sci(matched_mse) << " (under " << bench::fmt(matched, 2) << ") | " << bench::fmt(100.0 * matched_share, 1)
+         << "% |\n";
+      results["fig14_normal_matched"] = {{"threshold", matched}, {"mse", matched_mse}, {"shaded_again", matched_share}};
     }
     // frames: normal rough, sharp, mixed, mixed recomputed; then the same for lobe.
     write_png(dir / "upsample-strip.png", bench::strip({{&frames[1], &frames[5], &runs[1]->reference},

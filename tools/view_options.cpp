@@ -108,7 +108,7 @@ void add_filter_options(CLI::App& cmd, FilterArgs& o) {
       ->group("Filter");
   cmd.add_option("--recompute", f.recompute,
                  "Upsampling: shade a pixel again at full size where its total weight falls under this (paper Fig. 16; "
-                 "0: only where no shaded texel has weight)")
+                 "0: never, a pixel without weight takes the bilinear average of the shaded texels)")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 1.0f))
       ->group("Filter");

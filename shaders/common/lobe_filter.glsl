@@ -320,6 +320,8 @@ SVO_FN SvoFilterOut svo_filter_upsample_texel(uint texel) {
   vec2 frac = u - base;
   vec4 d = vec4(0.0f);
   vec4 s = vec4(0.0f);
+  vec4 d0 = vec4(0.0f);  // the screen weights alone: where no tap has weight and nothing is shaded again
+  vec4 s0 = vec4(0.0f);
   for (uint k = 0u; k < 4u; ++k) {
     int cx = int(base.x) + int(k & 1u);
     int cy = int(base.y) + int(k >> 1u);
@@ -333,13 +335,19 @@ SVO_FN SvoFilterOut svo_filter_upsample_texel(uint texel) {
     vec2 wt = f * svo_filter_weights(a, b);
     d += vec4(wt.x * vec3(dj) / dj.w, wt.x);
     s += vec4(wt.y * vec3(sj) / sj.w, wt.y);
+    d0 += vec4(f * vec3(dj) / dj.w, f);
+    s0 += vec4(f * vec3(sj) / sj.w, f);
   }
+  vec3 dv = d.w > 0.0f ? vec3(d) / d.w : (d0.w > 0.0f ? vec3(d0) / d0.w : vec3(0.0f));
+  vec3 sv = s.w > 0.0f ? vec3(s) / s.w : (s0.w > 0.0f ? vec3(s0) / s0.w : vec3(0.0f));
   SvoGBuffer g = svo_filter_gbuffer(texel);
   vec3 colour = svo_forward_background(svo_filter_background(texel), texel);
   float again = 0.0f;
   if (g.coverage > 0.0f) {
+    // Threshold 0: never shaded again (a pixel without weight keeps the
+    // screen weights' average, or nothing where no tap is covered).
     float threshold = filter_params.adapt.x;
-    if (d.w < threshold || s.w < threshold || !(d.w > 0.0f) || !(s.w > 0.0f)) {
+    if (threshold > 0.0f && (!(d.w >= threshold) || !(s.w >= threshold))) {
       SvoForwardSplit empty;
       empty.diffuse = vec4(0.0f);
       empty.specular = vec4(0.0f);
@@ -347,7 +355,7 @@ SVO_FN SvoFilterOut svo_filter_upsample_texel(uint texel) {
       colour += vec3(f.diffuse) + vec3(f.specular);
       again = 1.0f;
     } else {
-      colour += g.coverage * (vec3(d) / d.w + vec3(s) / s.w);
+      colour += g.coverage * (dv + sv);
     }
   }
   SvoFilterOut o;

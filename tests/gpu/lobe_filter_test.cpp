@@ -459,6 +459,8 @@ TEST_F(LobeFilterOnBothHosts, TheWhiteFurnaceStaysWithinItsInputsRange) {
 // (lavapipe's numbers are within 0.1% of these).
 TEST_F(LobeFilterOnBothHosts, FilteringANoisyGlossyFrameLowersItsError) {
   RenderSettings s = settings(std::make_shared<const Environment>(test::sky()), glossy(), 256);
+  s.filter.beta = 20.0f;  // the paper's values, pinned: the figures above were measured with them
+  s.filter.sigma_n2 = 0.01f;
   for (int k : {0}) {
     const char* host = host_name(renderer(0, k).host());
     s.shading.spp = 256;
@@ -537,11 +539,9 @@ TEST_F(LobeFilterOnBothHosts, RecomputingEveryPixelGivesTheFullSizeForwardFrame)
 }
 
 // Below 1, a pixel is shaded again exactly when one of its total weights
-// (diffuse, specular) is under the threshold or 0 (filter_weight.z is 1
+// (diffuse, specular) is under the threshold (filter_weight.z is 1
 // then and only then; such a pixel is the full-size frame's, as
-// RecomputingEveryPixelGivesTheFullSizeForwardFrame checks). At 0
-// only pixels with no shaded texel of weight: on this smooth sphere none
-// (measured 0 of 774 at 1/2 and 1/4; at most 5% allowed). At the default
+// RecomputingEveryPixelGivesTheFullSizeForwardFrame checks). At 0 none. At the default
 // 0.25: 406 of 774 at 1/2, 653 of 774 at 1/4 (the sharp specular lobes'
 // totals fall under it on a sphere this curved at this resolution).
 TEST_F(LobeFilterOnBothHosts, PixelsUnderTheThresholdAndOnlyThoseAreShadedAgain) {
@@ -562,7 +562,7 @@ TEST_F(LobeFilterOnBothHosts, PixelsUnderTheThresholdAndOnlyThoseAreShadedAgain)
             continue;
           }
           ++covered;
-          const bool under_d = w[i].x < t || !(w[i].x > 0), under_s = w[i].y < t || !(w[i].y > 0);
+          const bool under_d = t > 0 && !(w[i].x >= t), under_s = t > 0 && !(w[i].y >= t);
           diffuse_under += under_d;
           specular_under += under_s;
           wrong += (w[i].z == 1.0f) != (under_d || under_s);
@@ -574,7 +574,7 @@ TEST_F(LobeFilterOnBothHosts, PixelsUnderTheThresholdAndOnlyThoseAreShadedAgain)
         EXPECT_GT(covered, 500u) << label;
         EXPECT_EQ(wrong, 0u) << label << ": filter_weight.z does not follow the threshold";
         if (t == 0.0f) {
-          EXPECT_LE(again, covered / 20) << label;
+          EXPECT_EQ(again, 0u) << label;
         }
       }
     }

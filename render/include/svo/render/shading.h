@@ -135,7 +135,7 @@ FilterWeight parse_filter_weight(const std::string& name);
 // The lobe-aware filter's parameters (render::LobeFilterPass; Tokuyoshi 2015).
 struct FilterOptions {
   FilterWeight weight = FilterWeight::Lobe;
-  float beta = 20.0f;      // the power of the lobe-aware weights (Eq. 11-13)
+  float beta = 5.0f;  // the power of the lobe-aware weights (Eq. 11-13; svo bench lobe-filter: best 1-5 filtering)
   float sigma_n2 = 0.01f;  // the normal-aware weight's variance (Eq. 4)
   float sigma_z = 0.05f;   // the depth weight's deviation, relative to the pixel's depth (Eq. 3)
   float kappa = -1.0f;     // the smoothing kernel's sharpness (Eq. 9-10); < 0: none when filtering, 100 when upsampling
