@@ -235,30 +235,55 @@ struct SvoFilterOut {
   vec4 specular;
 };
 
-// A row of 2R + 1 taps about texel `texel` (full size; input at 1/1).
-SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
+// The sums of the 2R + 1 taps about `texel` along a row or a column
+// (full size): diffuse and specular, rgb the weighted values and w the
+// weights. The rows read the forward pass's images (values per unit
+// coverage: rgb / w); the columns read the rows' results (averages in
+// rgb, weighted by their totals in w).
+SVO_FN SvoFilterOut svo_filter_line(uint texel, bool columns) {
   uint w = params.image.x;
-  int x = int(texel % w);
+  int at = columns ? int(texel / w) : int(texel % w);
+  int size = columns ? int(params.image.y) : int(w);
+  int stride = columns ? int(w) : 1;
   int radius = int(filter_params.mode.y);
   SvoPixelLobe a = svo_filter_lobe(texel);
-  vec4 d = vec4(0.0f);
-  vec4 s = vec4(0.0f);
-  float norm = 0.0f;
-  for (int dx = -radius; dx <= radius; ++dx) {
-    float f = svo_filter_screen(float(dx));
-    norm += f;
-    int xj = x + dx;
-    if (xj < 0 || xj >= int(w)) continue;
-    uint j = uint(int(texel) + dx);
+  SvoFilterOut sum;
+  sum.diffuse = vec4(0.0f);
+  sum.specular = vec4(0.0f);
+  for (int k = -radius; k <= radius; ++k) {
+    if (at + k < 0 || at + k >= size) continue;
+    uint j = uint(int(texel) + k * stride);
     SvoPixelLobe b = svo_filter_lobe(j);
     if (!(b.depth > 0.0f)) continue;
     vec4 dj = svo_filter_diffuse(j);
     vec4 sj = svo_filter_specular(j);
-    if (!(dj.w > 0.0f)) continue;
-    vec2 wt = f * svo_filter_weights(a, b);
-    d += vec4(wt.x * vec3(dj) / dj.w, wt.x);
-    s += vec4(wt.y * vec3(sj) / sj.w, wt.y);
+    if (!columns && !(dj.w > 0.0f)) continue;
+    vec2 wt = svo_filter_screen(float(k)) * svo_filter_weights(a, b);
+    if (columns) {
+      wt *= vec2(dj.w, sj.w);
+      sum.diffuse += vec4(wt.x * vec3(dj), wt.x);
+      sum.specular += vec4(wt.y * vec3(sj), wt.y);
+    } else {
+      sum.diffuse += vec4(wt.x * vec3(dj) / dj.w, wt.x);
+      sum.specular += vec4(wt.y * vec3(sj) / sj.w, wt.y);
+    }
   }
+  return sum;
+}
+
+// The screen kernel's weights over the 2R + 1 taps, summed.
+SVO_FN float svo_filter_screen_sum() {
+  float norm = 0.0f;
+  for (int k = -int(filter_params.mode.y); k <= int(filter_params.mode.y); ++k) norm += svo_filter_screen(float(k));
+  return norm;
+}
+
+// A row about texel `texel` (input at 1/1): averages and totals.
+SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
+  SvoFilterOut sum = svo_filter_line(texel, false);
+  float norm = svo_filter_screen_sum();
+  vec4 d = sum.diffuse;
+  vec4 s = sum.specular;
   SvoFilterOut o;
   o.diffuse = d.w > 0.0f ? vec4(vec3(d) / d.w, d.w / norm) : vec4(0.0f);
   o.specular = s.w > 0.0f ? vec4(vec3(s) / s.w, s.w / norm) : vec4(0.0f);
@@ -269,27 +294,10 @@ SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
 // own total, and the composite: the background plus coverage times the
 // filtered diffuse and specular values.
 SVO_FN SvoFilterOut svo_filter_columns_texel(uint texel) {
-  uint w = params.image.x;
-  int y = int(texel / w);
-  int radius = int(filter_params.mode.y);
-  SvoPixelLobe a = svo_filter_lobe(texel);
-  vec4 d = vec4(0.0f);
-  vec4 s = vec4(0.0f);
-  float norm = 0.0f;
-  for (int dy = -radius; dy <= radius; ++dy) {
-    float f = svo_filter_screen(float(dy));
-    norm += f;
-    int yj = y + dy;
-    if (yj < 0 || yj >= int(params.image.y)) continue;
-    uint j = uint(int(texel) + dy * int(w));
-    SvoPixelLobe b = svo_filter_lobe(j);
-    if (!(b.depth > 0.0f)) continue;
-    vec4 dj = svo_filter_diffuse(j);
-    vec4 sj = svo_filter_specular(j);
-    vec2 wt = f * svo_filter_weights(a, b) * vec2(dj.w, sj.w);
-    d += vec4(wt.x * vec3(dj), wt.x);
-    s += vec4(wt.y * vec3(sj), wt.y);
-  }
+  SvoFilterOut sum = svo_filter_line(texel, true);
+  float norm = svo_filter_screen_sum();
+  vec4 d = sum.diffuse;
+  vec4 s = sum.specular;
   SvoGBuffer g = svo_filter_gbuffer(texel);
   vec3 colour = svo_forward_background(svo_filter_background(texel), texel);
   if (g.coverage > 0.0f) {
