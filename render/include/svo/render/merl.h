@@ -75,7 +75,6 @@ uint32_t merl_sampling_floats();
 //        or non-finite value, or the tables would outgrow 32-bit offsets.
 std::array<uint32_t, 2> append_merl_tables(const MerlBrdf& brdf, std::vector<float>& tables);
 
-
 // One lobe of a measured BRDF's SG fit, in half-vector space about the
 // normal: the BRDF's specular part near theta_d = 0 is approximately
 // sum_k amplitude_k exp(sharpness_k (cos theta_h - 1)) (luminance, 1/sr).
