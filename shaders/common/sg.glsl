@@ -140,8 +140,11 @@ SVO_FN float svo_weight_eq12(SvoSG a, SvoSG b, float beta) {
   if (!(s > 0.0f)) return 1.0f;
   float r = (la / s) * (lb / s);  // li lj / (li + lj)^2
   if (!(r > 0.0f)) return beta > 0.0f ? 0.0f : 1.0f;
-  // One exp: (2 sqrt(r))^beta = exp(beta log(4 r) / 2).
-  return exp(beta * (0.5f * log(4.0f * r) + (s * r) * svo_sg_cos_minus_one(a.axis, b.axis)));
+  // One exp: (2 sqrt(r))^beta = exp(beta log(4 r) / 2). r is kept at the
+  // smallest normal float: the log of a denormal differs between hosts (a
+  // GPU may flush it), and the weight there is below 1e-19 anyway.
+  float rn = max(r, 1.17549435e-38f);
+  return exp(beta * (0.5f * log(4.0f * rn) + (s * r) * svo_sg_cos_minus_one(a.axis, b.axis)));
 }
 
 // Eq. 4, the baseline: the normal-aware weight G(n_i, n_j, 1 / sigma_n^2).
