@@ -147,18 +147,4 @@ TEST(MerlSgFit, BadArguments) {
   EXPECT_THROW(merl_sg_fit_error(MerlBrdf{}, {}), std::invalid_argument);
 }
 
-// A real MERL file, where SVO_MERL_SG_FILE names one (printing only).
-TEST(MerlSgFit, RealFile) {
-  const char* path = std::getenv("SVO_MERL_SG_FILE");
-  if (path == nullptr) GTEST_SKIP() << "SVO_MERL_SG_FILE is not set";
-  const MerlBrdf brdf = load_merl(path);
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<MerlSgLobe> lobes = fit_merl_sg(brdf);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("fit_merl_sg: %.1f ms\n", ms);
-  print(path, brdf, lobes);
-  expect_valid(lobes);
-  for (int n = 1; n <= 2; ++n) print(n == 1 ? "  max_lobes 1" : "  max_lobes 2", brdf, fit_merl_sg(brdf, n));
-}
-
 }  // namespace
