@@ -71,13 +71,14 @@ namespace {
 ImageDesc rows_diffuse_image() { return {"filter_rows_diffuse", TexelFormat::Rgba32f}; }
 ImageDesc rows_specular_image() { return {"filter_rows_specular", TexelFormat::Rgba32f}; }
 
-Kernel::SvoFilterParams filter_params(const FilterOptions& o, uint32_t scale, uint32_t step) {
-  Kernel::SvoFilterParams p{};
+svo::math::SvoFilterParams filter_params(const FilterOptions& o, uint32_t scale, uint32_t step) {
+  svo::math::SvoFilterParams p{};
   const float kappa = o.kappa >= 0 ? o.kappa : scale == 1 ? FLT_MAX : 100.0f;
   p.mode = glm::uvec4(uint32_t(o.weight), o.radius, scale, step);
   p.weights = glm::vec4(o.beta, o.sigma_n2, o.sigma_z, kappa);
   p.adapt = glm::vec4(o.recompute, std::max(0.5f * float(o.radius), 0.5f), o.voxel_slopes ? 0.0f : 1.0f,
-                      Kernel{}.svo_filter_diffuse_variance(o.beta, kappa));
+                      svo::math::svo_filter_diffuse_variance(o.beta, kappa));
+  p.screen = glm::vec4(svo::math::svo_filter_screen_sum(int(o.radius), p.adapt.y), 0, 0, 0);
   return p;
 }
 
@@ -121,16 +122,16 @@ double LobeFilterPass::run(PassContext& ctx) {
   ImageMemory& weight = ctx.images.write(weight_image());
   const uint32_t count = ctx.images.width() * ctx.images.height();
   // The steps: lobes, then rows and columns (filtering) or upsample.
-  std::vector<uint32_t> steps{Kernel::SVO_FILTER_STEP_LOBES};
+  std::vector<uint32_t> steps{svo::math::SVO_FILTER_STEP_LOBES};
   if (scale_ == 1) {
-    steps.push_back(Kernel::SVO_FILTER_STEP_ROWS);
-    steps.push_back(Kernel::SVO_FILTER_STEP_COLUMNS);
+    steps.push_back(svo::math::SVO_FILTER_STEP_ROWS);
+    steps.push_back(svo::math::SVO_FILTER_STEP_COLUMNS);
   } else {
-    steps.push_back(Kernel::SVO_FILTER_STEP_UPSAMPLE);
+    steps.push_back(svo::math::SVO_FILTER_STEP_UPSAMPLE);
   }
   if (ctx.host == Host::Vulkan) {
     vk::Context& vc = *ctx.vulkan;
-    const std::size_t lobe_bytes = std::size_t(count) * Kernel::SVO_LOBE_VEC4S * sizeof(glm::vec4);
+    const std::size_t lobe_bytes = std::size_t(count) * svo::math::SVO_LOBE_VEC4S * sizeof(glm::vec4);
     if (!s.lobe_buffer || s.lobe_buffer->size() < lobe_bytes)
       s.lobe_buffer = std::make_unique<vk::Buffer>(vc, lobe_bytes);
     double ms = 0;
@@ -140,12 +141,12 @@ double LobeFilterPass::run(PassContext& ctx) {
             octree.pick_kernel(svo_spv_filter_single_comp, svo_spv_filter_address_comp, svo_spv_filter_switch_comp);
         const uint32_t spec[3] = {svo::math::SVO_SPEC_ANY, svo::math::SVO_SPEC_ANY, step};
         s.kernels[step] = std::make_unique<vk::ComputeKernel>(vc, spirv, 10 + octree.binding_count(), 0, spec);
-        s.params[step] = std::make_unique<vk::Buffer>(vc, sizeof(Kernel::SvoFilterParams));
+        s.params[step] = std::make_unique<vk::Buffer>(vc, sizeof(svo::math::SvoFilterParams));
       }
-      const Kernel::SvoFilterParams fp = filter_params(ctx.settings.filter, scale_, step);
+      const svo::math::SvoFilterParams fp = filter_params(ctx.settings.filter, scale_, step);
       std::memcpy(s.params[step]->data(), &fp, sizeof fp);
-      const bool columns = step == Kernel::SVO_FILTER_STEP_COLUMNS;
-      const bool rows = step == Kernel::SVO_FILTER_STEP_ROWS;
+      const bool columns = step == svo::math::SVO_FILTER_STEP_COLUMNS;
+      const bool rows = step == svo::math::SVO_FILTER_STEP_ROWS;
       std::vector<const vk::Buffer*> bound{gbuffer.buffer(),
                                            background.buffer(),
                                            columns ? rows_d->buffer() : diffuse.buffer(),
@@ -164,7 +165,7 @@ double LobeFilterPass::run(PassContext& ctx) {
   }
   auto start = std::chrono::steady_clock::now();
   Kernel kernel{octree.native(params), {t.params, t.floats.data()}};
-  s.lobes.resize(std::size_t(count) * Kernel::SVO_LOBE_VEC4S);
+  s.lobes.resize(std::size_t(count) * svo::math::SVO_LOBE_VEC4S);
   kernel.gbuffer = static_cast<const glm::vec4*>(gbuffer.data());
   kernel.background = static_cast<const glm::vec4*>(background.data());
   kernel.lobes = s.lobes.data();
@@ -174,23 +175,24 @@ double LobeFilterPass::run(PassContext& ctx) {
   auto* out_b = static_cast<glm::vec4*>(weight.data());
   for (uint32_t step : steps) {
     kernel.filter_params = filter_params(ctx.settings.filter, scale_, step);
-    if (step == Kernel::SVO_FILTER_STEP_COLUMNS) {
+    if (step == svo::math::SVO_FILTER_STEP_COLUMNS) {
       kernel.in_diffuse = static_cast<const glm::vec4*>(rows_d->data());
       kernel.in_specular = static_cast<const glm::vec4*>(rows_s->data());
     }
-    glm::vec4* a = step == Kernel::SVO_FILTER_STEP_ROWS ? static_cast<glm::vec4*>(rows_d->data()) : out_a;
-    glm::vec4* b = step == Kernel::SVO_FILTER_STEP_ROWS ? static_cast<glm::vec4*>(rows_s->data()) : out_b;
+    glm::vec4* a = step == svo::math::SVO_FILTER_STEP_ROWS ? static_cast<glm::vec4*>(rows_d->data()) : out_a;
+    glm::vec4* b = step == svo::math::SVO_FILTER_STEP_ROWS ? static_cast<glm::vec4*>(rows_s->data()) : out_b;
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& r) {
       for (uint32_t i = r.begin(); i != r.end(); ++i) {
-        if (step == Kernel::SVO_FILTER_STEP_LOBES) {
-          const Kernel::SvoPixelLobe l = kernel.svo_pixel_lobe(kernel.svo_filter_gbuffer(i));
-          for (uint32_t k = 0; k < Kernel::SVO_LOBE_VEC4S; ++k)
-            s.lobes[std::size_t(i) * Kernel::SVO_LOBE_VEC4S + k] = kernel.svo_lobe_pack(l, k);
+        if (step == svo::math::SVO_FILTER_STEP_LOBES) {
+          const svo::math::SvoPixelLobe l = kernel.svo_pixel_lobe(kernel.svo_filter_gbuffer(i));
+          for (uint32_t k = 0; k < svo::math::SVO_LOBE_VEC4S; ++k)
+            s.lobes[std::size_t(i) * svo::math::SVO_LOBE_VEC4S + k] = svo::math::svo_lobe_pack(l, k);
           continue;
         }
-        const Kernel::SvoFilterOut o = step == Kernel::SVO_FILTER_STEP_ROWS      ? kernel.svo_filter_rows_texel(i)
-                                       : step == Kernel::SVO_FILTER_STEP_COLUMNS ? kernel.svo_filter_columns_texel(i)
-                                                                                 : kernel.svo_filter_upsample_texel(i);
+        const Kernel::SvoFilterOut o = step == svo::math::SVO_FILTER_STEP_ROWS ? kernel.svo_filter_rows_texel(i)
+                                       : step == svo::math::SVO_FILTER_STEP_COLUMNS
+                                           ? kernel.svo_filter_columns_texel(i)
+                                           : kernel.svo_filter_upsample_texel(i);
         a[i] = o.diffuse;
         b[i] = o.specular;
       }

@@ -213,19 +213,6 @@ SVO_FN vec2 svo_filter_weights(SVO_IN(SvoPixelLobe) a, SVO_IN(SvoPixelLobe) b) {
   return w * vec2(wd, ws);
 }
 
-// The variance of the normal-aware weight equal to Eq. 12 for two diffuse
-// lobes smoothed by kappa, at power beta (0: the weight is 1).
-SVO_FN float svo_filter_diffuse_variance(float beta, float kappa) {
-  float ld = svo_sg_smooth(svo_diffuse_lobe(vec3(0.0f, 0.0f, 1.0f)), kappa).sharpness;
-  return beta > 0.0f && ld > 0.0f ? 2.0f / (beta * ld) : 0.0f;
-}
-
-// The screen kernel at d pixels.
-SVO_FN float svo_filter_screen(float d) {
-  float s = max(filter_params.adapt.y, 1.0e-3f);
-  return exp(-0.5f * d * d / (s * s));
-}
-
 // What a filter step gives a texel: the diffuse and specular values per
 // unit coverage (rgb) with their total weights (w), or, from the last step,
 // the frame's colour (diffuse) and the totals (specular: x diffuse, y
@@ -258,7 +245,7 @@ SVO_FN SvoFilterOut svo_filter_line(uint texel, bool columns) {
     vec4 dj = svo_filter_diffuse(j);
     vec4 sj = svo_filter_specular(j);
     if (!columns && !(dj.w > 0.0f)) continue;
-    vec2 wt = svo_filter_screen(float(k)) * svo_filter_weights(a, b);
+    vec2 wt = svo_filter_screen(float(k), filter_params.adapt.y) * svo_filter_weights(a, b);
     if (columns) {
       wt *= vec2(dj.w, sj.w);
       sum.diffuse += vec4(wt.x * vec3(dj), wt.x);
@@ -271,17 +258,10 @@ SVO_FN SvoFilterOut svo_filter_line(uint texel, bool columns) {
   return sum;
 }
 
-// The screen kernel's weights over the 2R + 1 taps, summed.
-SVO_FN float svo_filter_screen_sum() {
-  float norm = 0.0f;
-  for (int k = -int(filter_params.mode.y); k <= int(filter_params.mode.y); ++k) norm += svo_filter_screen(float(k));
-  return norm;
-}
-
 // A row about texel `texel` (input at 1/1): averages and totals.
 SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
   SvoFilterOut sum = svo_filter_line(texel, false);
-  float norm = svo_filter_screen_sum();
+  float norm = filter_params.screen.x;
   vec4 d = sum.diffuse;
   vec4 s = sum.specular;
   SvoFilterOut o;
@@ -295,7 +275,7 @@ SVO_FN SvoFilterOut svo_filter_rows_texel(uint texel) {
 // filtered diffuse and specular values.
 SVO_FN SvoFilterOut svo_filter_columns_texel(uint texel) {
   SvoFilterOut sum = svo_filter_line(texel, true);
-  float norm = svo_filter_screen_sum();
+  float norm = filter_params.screen.x;
   vec4 d = sum.diffuse;
   vec4 s = sum.specular;
   SvoGBuffer g = svo_filter_gbuffer(texel);

@@ -1,9 +1,11 @@
 // The types of the lobe-aware filter (lobe_filter.glsl): its parameters
 // and a pixel's lobes, which a host declares its readers with before it
-// includes lobe_filter.glsl.
+// includes lobe_filter.glsl, and the parameters' per-frame constants (also
+// in shared_math.h, for the hosts that fill SvoFilterParams).
 #ifndef SVO_LOBE_FILTER_TYPES_GLSL
 #define SVO_LOBE_FILTER_TYPES_GLSL
 #include "prelude.glsl"
+#include "sg.glsl"
 
 // Directional weights (SvoFilterParams::mode.x; render::FilterWeight).
 SVO_CONST uint SVO_FILTER_NONE = 0u;     // depth and screen kernels alone
@@ -25,7 +27,28 @@ struct SvoFilterParams {
   vec4 adapt;     // x: total weight under which upsampling shades a pixel again (0: never),
                   // y: the screen kernel's sigma (pixels), z: 1 to leave the voxels' slopes out of the lobes,
                   // w: the diffuse lobes' weight as a normal-aware variance (svo_filter_diffuse_variance)
+  vec4 screen;    // x: the screen kernel's weights over the 2R + 1 taps, summed (svo_filter_screen_sum); yzw: 0
 };
+
+// The screen kernel at d pixels: a Gaussian of deviation sigma.
+SVO_FN float svo_filter_screen(float d, float sigma) {
+  float s = max(sigma, 1.0e-3f);
+  return exp(-0.5f * d * d / (s * s));
+}
+
+// Its weights over the 2R + 1 taps of radius R, summed.
+SVO_FN float svo_filter_screen_sum(int radius, float sigma) {
+  float norm = 0.0f;
+  for (int k = -radius; k <= radius; ++k) norm += svo_filter_screen(float(k), sigma);
+  return norm;
+}
+
+// The variance of the normal-aware weight equal to Eq. 12 for two diffuse
+// lobes smoothed by kappa, at power beta (0: the weight is 1).
+SVO_FN float svo_filter_diffuse_variance(float beta, float kappa) {
+  float ld = svo_sg_smooth(svo_diffuse_lobe(vec3(0.0f, 0.0f, 1.0f)), kappa).sharpness;
+  return beta > 0.0f && ld > 0.0f ? 2.0f / (beta * ld) : 0.0f;
+}
 
 // A pixel's lobes, the rows' input: the specular lobes share one axis (the
 // reflection of the view about the mean normal); sharpness and amplitudes

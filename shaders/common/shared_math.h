@@ -14,6 +14,7 @@ using namespace glm;
 #include "erf.glsl"
 #include "frame.glsl"
 #include "gbuffer.glsl"
+#include "lobe_filter_types.glsl"
 #include "prelude.glsl"
 #include "probe.glsl"
 #include "sg.glsl"
