@@ -16,7 +16,6 @@
 // The materials have no diffuse part, so that every error is the specular
 // image's, as the paper measures it.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -116,10 +115,9 @@ class Runs {
     filtered_->add_pass(std::make_unique<render::ForwardPass>(render::ForwardOutput{true, upsample}));
     filtered_->add_pass(std::make_unique<render::LobeFilterPass>(upsample));
   }
-  render::Frame run(const render::FilterOptions& filter, uint32_t spp = 0) {
+  render::Frame run(const render::FilterOptions& filter) {
     render::RenderSettings s = scene_.settings;
     s.filter = filter;
-    if (spp > 0) s.shading.spp = spp;
     return filtered_->render(s);
   }
   // The share of covered pixels the last upsampled frame shaded again
