@@ -96,6 +96,28 @@ class LobeFilterPass : public Pass {
   std::unique_ptr<State> state_;  // the shading tables, the lobes, and the Vulkan kernels and buffers
 };
 
+// Light-field luminaires (Lu et al. 2015, DESIGN 10.4; shaders/common/
+// luminaire.glsl): every covered pixel lit by RenderSettings::luminaire's
+// luminaires with its material, by position-dependent importance sampling
+// and visibility cones through the octree. Over the colour: reads "gbuffer"
+// and "colour" (the forward pass's) and adds to it; otherwise reads
+// "gbuffer" and "background" and writes "colour" (the background's share,
+// the ambient term and the luminaires' light).
+class LuminairePass : public Pass {
+ public:
+  explicit LuminairePass(bool over_colour = false);
+  ~LuminairePass() override;
+  std::string name() const override { return "luminaire"; }
+  std::vector<ImageDesc> reads() const override;
+  std::vector<ImageDesc> writes() const override { return {colour_image()}; }
+  double run(PassContext& context) override;
+
+ private:
+  bool over_;
+  struct Cache;
+  std::unique_ptr<Cache> cache_;  // the shading and luminaire tables, and the Vulkan kernel and buffers
+};
+
 // The names make_pass knows, in the order --help lists them.
 std::vector<std::string> pass_names();
 

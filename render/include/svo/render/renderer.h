@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "svo/octree/octree.h"
+#include "svo/render/luminaire.h"
 #include "svo/render/octree_access.h"
 #include "svo/render/pass.h"
 #include "svo/render/shading.h"
@@ -100,6 +101,8 @@ struct RenderSettings {
   ShadingOptions shading;
   // The lobe-aware filter's weight and parameters (LobeFilterPass).
   FilterOptions filter;
+  // The luminaires and their sampling (LuminairePass).
+  LuminaireOptions luminaire;
 };
 
 // One G-buffer texel (shaders/common/gbuffer.glsl, which says what each

@@ -1,0 +1,330 @@
+// Light-field luminaires (Lu et al. 2015; DESIGN 10.4; render/include/svo/
+// render/luminaire.h gives the model): the radiance a G-buffer point
+// reflects towards the eye from the luminaires, by position-dependent
+// importance sampling of each image C_m restricted to the projection of its
+// basis function's support (Eq. 7-8), samples balanced over the images by
+// A_m(p) from summed-area tables (Eq. 10, 12), and the estimator of Eq. 14
+// with the point's BRDF (forward.glsl) and a visibility through the octree.
+//
+// Host contract: forward.glsl's, plus `float svo_lum_table(uint i)` reading
+// the floats render::build_luminaire_tables makes. Counts and offsets are
+// stored as the bits of a uint (svo_lum_uint). Layout:
+//   0: the luminaire count; 1: sampler (SVO_LUM_SAMPLER_*); 2: search
+//   (SVO_LUM_SEARCH_*) | depth << 8; 3: visibility | sequence << 8; 4: K, the
+//   samples per pixel of each luminaire; 5: K_max (0: none); 6: seed.
+//   8 + 32 l: luminaire l (svo_lum_info): plane S's centre, delta, its x
+//   axis, the basis spacing h, its y axis, the basis kind, its z axis (the
+//   direction light leaves in), the texel area, S's extent, the image size
+//   w x h, the grid W x H, the images' offset and stride, the cells'
+//   offset, the total energy E (sum of luminance x texel area), the offset
+//   of the CDF over images by energy (global sampling), and the basis
+//   support in cells n. All lengths in scene units.
+//   Image m at offset + m stride (texel coordinates: x in [0, w], y in [0, h]):
+//     the marginal CDF over columns, w + 1 floats (0 ... 1);
+//     each column's CDF over rows, w x (h + 1);
+//     the RGB radiance per texel, 3 w h ((y w + x) order);
+//     the summed-area table S(x, y) = sum over x' < x, y' < y of luminance x
+//     texel area, as hi + lo (hi a multiple of 2^-12 of the total, so that
+//     sums of hi are exact in float), (w + 1)(h + 1) floats each;
+//     the energy E_m, and the point where both CDFs are 1/2 (texel coords).
+//   Cells at the cells' offset: (W + n - 1) x (H + n - 1) reference
+//   positions on S (texel coordinates, 2 floats each): the mean of the
+//   half-way points of the images whose basis overlaps the cell.
+#ifndef SVO_LUMINAIRE_GLSL
+#define SVO_LUMINAIRE_GLSL
+#include "forward.glsl"
+#include "luminaire_tables.glsl"
+
+// Sample i's uniform pair in dimension pair `dim` (Fig. 8's two sequences).
+SVO_FN vec2 svo_lum_rand(uint pixel, uint i, uint dim, uint sequence, uint seed) {
+  if (sequence == SVO_LUM_SEQ_HALTON) return svo_sample_2d(pixel, seed, i, dim);
+  uint h = svo_pcg_hash(svo_pcg_hash(pixel * 9781u + seed) + i * 6271u + dim * 1013u);
+  return vec2(svo_unit_float(h), svo_unit_float(svo_pcg_hash(h)));
+}
+
+// A world point on S from texel coordinates, and on U from U's coordinates.
+SVO_FN vec3 svo_lum_on_s(SvoLumInfo f, vec2 t) {
+  vec2 s = svo_lum_from_texel(f, t);
+  return f.centre + s.x * f.x + s.y * f.y;
+}
+SVO_FN vec3 svo_lum_on_u(SvoLumInfo f, vec2 u) { return f.centre + u.x * f.x + u.y * f.y - f.delta * f.z; }
+
+// The visibility of the luminaire's point q from the G-buffer point, by a
+// cone that widens to `width` at q.
+SVO_FN float svo_lum_visible(SvoShadingPoint p, vec3 q, float width) {
+  vec3 d = q - p.position;
+  float dist = length(d);
+  if (!(dist > 0.0f)) return 1.0f;
+  vec3 l = d / dist;
+  return svo_visibility(p.position, l, dist, p.radius, 0.5f * width / dist, dot(p.n, l), SVO_MODE_PREFILTERED).visible;
+}
+
+// The BRDF times the cosine towards the luminaire's point q, both parts.
+SVO_FN vec3 svo_lum_brdf(SvoShadingPoint p, SvoLobe lobe, vec3 q) {
+  SvoForwardSum b = svo_forward_brdf_cos(p, lobe, normalize(q - p.position));
+  return b.diffuse + b.specular;
+}
+
+// The options in the tables' header.
+struct SvoLumOptions {
+  uint count;
+  uint sampler_kind;
+  uint search;
+  uint depth;
+  uint visibility;
+  uint sequence;
+  uint k;
+  uint kmax;
+  uint seed;
+};
+
+SVO_FN SvoLumOptions svo_lum_options() {
+  SvoLumOptions o;
+  o.count = svo_lum_uint(0u);
+  o.sampler_kind = svo_lum_uint(1u);
+  uint search = svo_lum_uint(2u);
+  o.search = search & 255u;
+  o.depth = search >> 8u;
+  uint vis = svo_lum_uint(3u);
+  o.visibility = vis & 255u;
+  o.sequence = vis >> 8u;
+  o.k = max(svo_lum_uint(4u), 1u);
+  o.kmax = svo_lum_uint(5u);
+  o.seed = svo_lum_uint(6u);
+  return o;
+}
+
+// The reference position of cell (a, b) on S, as a world point.
+SVO_FN vec3 svo_lum_cell_point(SvoLumInfo f, uint a, uint b) {
+  uint at = f.cells + 2u * (b * (f.grid_w + f.n - 1u) + a);
+  return svo_lum_on_s(f, vec2(svo_lum_table(at), svo_lum_table(at + 1u)));
+}
+
+// The material a sample shades: where the pixel shows two, sample i's draw.
+SVO_FN SvoLobe svo_lum_lobe(SvoShadingPoint p, SvoGBuffer g, uint pixel, uint i, SvoLumOptions o) {
+  bool mixed = g.material != g.material2 && g.material_mix < 1.0f;
+  bool second = mixed && svo_sample_1d(pixel, o.seed, i, 7u) >= g.material_mix;
+  SvoMaterial mat = svo_scene_material(second ? g.material2 : g.material);
+  return svo_sample_lobe(p, mat, svo_lum_rand(pixel, i, 2u, o.sequence, o.seed));
+}
+
+// The radiance the G-buffer point reflects towards the eye from luminaire
+// l (Eq. 14, summed over the images), with o's sampler, search, sequence
+// and visibility.
+// Only samples [first, first + chunk) of the point's sequence count (a host
+// may split them over several calls, forward.glsl's svo_forward_texel says
+// why); each is weighted as in the whole estimate.
+SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uint l, SvoLumOptions o, uint first,
+                                uint chunk) {
+  SvoLumInfo f = svo_lum_info(l);
+  vec3 pl = svo_lum_local(f, p.position);
+  float eps = 1.0e-5f * f.delta;
+  if (pl.z < -eps) return vec3(0.0f);  // behind S: the luminaire sends nothing there
+  uint count = f.grid_w * f.grid_h;
+  uint cell_w = f.grid_w + f.n - 1u;
+  uint cell_count = cell_w * (f.grid_h + f.n - 1u);
+  // The visibility of each cell, computed when an image first needs it.
+  float cellv[SVO_LUM_MAX_CELLS];
+  for (uint c = 0u; c < min(cell_count, SVO_LUM_MAX_CELLS); ++c) cellv[c] = -1.0f;
+  float cell_width = f.spacing * pl.z / (pl.z + f.delta);
+  float texel_width = f.extent.x / float(f.w);
+  vec3 total = vec3(0.0f);
+  uint sample_index = 0u;
+
+  // Global sampling draws the image per sample; the others loop over images.
+  uint passes = o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL ? 1u : count;
+  // The balance of Eq. 12: A(p) over the images, and (uniform) the images
+  // whose box is not empty.
+  float area_total = 0.0f;
+  uint nonempty = 0u;
+  bool on_s = pl.z <= eps;
+  if (!on_s && o.sampler_kind != SVO_LUM_SAMPLER_GLOBAL) {
+    for (uint m = 0u; m < count; ++m) {
+      vec4 box = svo_lum_box(f, m, pl);
+      if (box.z > box.x && box.w > box.y) ++nonempty;
+      if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
+    }
+    if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED && !(area_total > 0.0f)) return vec3(0.0f);
+    if (nonempty == 0u) return vec3(0.0f);
+  }
+  vec2 t_on_s = svo_lum_to_texel(f, vec2(pl));
+  if (on_s && !(t_on_s.x >= 0.0f && t_on_s.y >= 0.0f && t_on_s.x < float(f.w) && t_on_s.y < float(f.h)))
+    return vec3(0.0f);
+
+  for (uint pass = 0u; pass < passes; ++pass) {
+    uint m = pass;
+    uint img = svo_lum_image(f, m);
+    vec4 box = vec4(0.0f, 0.0f, float(f.w), float(f.h));
+    uint km = o.k;
+    if (o.sampler_kind != SVO_LUM_SAMPLER_GLOBAL) {
+      if (on_s) {
+        // Eq. 9: the same share for every image that is lit at the point.
+        vec3 c = svo_lum_texel_colour(f, img, t_on_s);
+        if (!(c.x + c.y + c.z > 0.0f)) continue;
+        km = max((o.k + count - 1u) / count, 1u);
+      } else {
+        box = svo_lum_box(f, m, pl);
+        if (!(box.z > box.x) || !(box.w > box.y)) continue;
+        if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED) {
+          float am = svo_lum_area(f, img, box);
+          if (!(am > 0.0f)) continue;
+          // Eq. 12, at least one sample for an image that sends light (an
+          // image of no sample would drop its share: a bias).
+          km = max(uint(am / area_total * float(o.k) + 0.5f), 1u);
+        } else {
+          km = max((o.k + nonempty - 1u) / nonempty, 1u);
+        }
+      }
+      if (o.kmax > 0u) km = min(km, o.kmax);
+    }
+    vec3 sum = vec3(0.0f);
+    float vis_m = 1.0f;
+    bool vis_known = false;
+    for (uint k = 0u; k < km; ++k) {
+      uint i = sample_index++;
+      if (i < first || i - first >= chunk) continue;
+      vec2 u = svo_lum_rand(pixel, i, 0u, o.sequence, o.seed);
+      if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
+        // The image by its share of the energy, then the whole image.
+        uint cdf = f.image_cdf;
+        m = svo_find_lum_interval(cdf, count, u.x);
+        float c0 = svo_lum_table(cdf + m);
+        float c1 = svo_lum_table(cdf + m + 1u);
+        u.x = clamp((u.x - c0) / max(c1 - c0, 1.0e-30f), 0.0f, 0.99999994f);
+        img = svo_lum_image(f, m);
+        vis_known = false;
+      }
+      SvoLobe lobe = svo_lum_lobe(p, g, pixel, i, o);
+      vec3 q;        // the light's point
+      vec3 c;        // C_m there
+      float weight;  // Psi_m x the solid angle's Jacobian / the density
+      if (on_s) {
+        // Eq. 9: u uniform over the support of Phi_m.
+        float half_support = 0.5f * float(f.n) * f.spacing;
+        vec2 uu = svo_lum_basis_centre(f, m) + (2.0f * u - 1.0f) * half_support;
+        q = svo_lum_on_u(f, uu);
+        float r = length(q - p.position);
+        c = svo_lum_texel_colour(f, img, t_on_s);
+        weight = svo_lum_basis(f, m, uu) * (f.delta + pl.z) / (r * r * r) * (4.0f * half_support * half_support);
+      } else {
+        vec3 s;
+        if (o.sampler_kind == SVO_LUM_SAMPLER_UNIFORM) {
+          s = vec3(mix(vec2(box), vec2(box.z, box.w), u), 1.0f / ((box.z - box.x) * (box.w - box.y)));
+        } else {
+          s = svo_lum_sample_box(f, img, box, u, o.search, o.depth);
+        }
+        if (!(s.z > 0.0f)) continue;
+        vec2 sl = svo_lum_from_texel(f, vec2(s));
+        vec2 uu = vec2(pl) + (sl - vec2(pl)) * ((pl.z + f.delta) / pl.z);
+        float phi = svo_lum_basis(f, m, uu);
+        if (!(phi > 0.0f)) continue;
+        q = svo_lum_on_s(f, vec2(s));
+        float r = length(q - p.position);
+        c = svo_lum_texel_colour(f, img, vec2(s));
+        // Delta / r^3 ds is the solid angle; the density per unit area of S
+        // is the density per texel over the texel's area.
+        weight = phi * pl.z / (r * r * r) * (f.texel_area / s.z);
+        if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
+          float share = svo_lum_table(f.image_cdf + m + 1u) - svo_lum_table(f.image_cdf + m);
+          weight /= share;
+        }
+      }
+      vec3 contribution = c * weight * svo_lum_brdf(p, lobe, q);
+      if (!(contribution.x + contribution.y + contribution.z > 0.0f)) continue;
+      if (o.visibility == SVO_LUM_VIS_SAMPLES) {
+        contribution *= svo_lum_visible(p, q, texel_width);
+      } else if (o.visibility == SVO_LUM_VIS_CELLS && !vis_known) {
+        // v_m: the mean over the n x n cells under Phi_m's support of one
+        // cone each towards the cell's reference position (section 6.2).
+        uint ci = m % f.grid_w;
+        uint cj = m / f.grid_w;
+        float v = 0.0f;
+        for (uint b = cj; b < cj + f.n; ++b) {
+          for (uint a = ci; a < ci + f.n; ++a) {
+            uint cell = b * cell_w + a;
+            float cv = cell < SVO_LUM_MAX_CELLS ? cellv[cell] : -1.0f;
+            if (cv < 0.0f) {
+              cv = svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, texel_width));
+              if (cell < SVO_LUM_MAX_CELLS) cellv[cell] = cv;
+            }
+            v += cv;
+          }
+        }
+        vis_m = v / float(f.n * f.n);
+        vis_known = true;
+      }
+      sum += contribution * (o.visibility == SVO_LUM_VIS_CELLS ? vis_m : 1.0f);
+    }
+    total += sum / float(km);
+  }
+  return total;
+}
+
+// The luminaires' light over the point's coverage, summed over luminaires:
+// samples [first, first + chunk) of each.
+SVO_FN vec3 svo_luminaires(SvoGBuffer g, uint pixel, uint first, uint chunk) {
+  if (!(g.coverage > 0.0f)) return vec3(0.0f);
+  SvoLumOptions o = svo_lum_options();
+  SvoShadingPoint p = svo_shading_point(g);
+  vec3 sum = vec3(0.0f);
+  for (uint l = 0u; l < o.count; ++l) sum += svo_luminaire_shade(g, p, pixel, l, o, first, chunk);
+  return g.coverage * sum;
+}
+
+// The pixel with samples [first, first + chunk): `base` is what the frame
+// holds. over_colour: the frame's colour (the forward pass's), to which the
+// luminaires' light adds; otherwise, at first = 0, the background's share
+// (the trace pass's "background": rgb, 1 - coverage), to which the ambient
+// term and the luminaires' light add; at first > 0, the earlier calls' sum.
+SVO_FN vec4 svo_luminaire_texel(SvoGBuffer g, vec4 base, uint pixel, bool over_colour, uint first, uint chunk) {
+  vec4 sum = base;
+  if (!over_colour && first == 0u) {
+    sum = vec4(vec3(base), 0.0f);
+    if (g.coverage > 0.0f) sum += g.coverage * vec4(svo_forward_ambient(g), 1.0f);
+  }
+  return sum + vec4(svo_luminaires(g, pixel, first, chunk), 0.0f);
+}
+
+// Dense quadrature of the same integral (Eq. 4 with the BRDF) without
+// visibility, for the tests and the benchmark's ground truth of one
+// G-buffer: every texel of S that lights the point, k x k points each, each
+// summing the images whose basis reaches its ray. Lobes are drawn with u =
+// (0.5, 0.5): exact for Lambert, Beckmann and GGX, whose lobe takes the
+// voxel's slopes without sampling.
+SVO_FN vec3 svo_luminaire_quadrature(SvoGBuffer g, uint l, uint k) {
+  if (!(g.coverage > 0.0f)) return vec3(0.0f);
+  SvoShadingPoint p = svo_shading_point(g);
+  SvoLumInfo f = svo_lum_info(l);
+  vec3 pl = svo_lum_local(f, p.position);
+  if (!(pl.z > 1.0e-5f * f.delta)) return vec3(0.0f);
+  bool mixed = g.material != g.material2 && g.material_mix < 1.0f;
+  SvoLobe first = svo_sample_lobe(p, svo_scene_material(g.material), vec2(0.5f));
+  SvoLobe second = svo_sample_lobe(p, svo_scene_material(g.material2), vec2(0.5f));
+  uint count = f.grid_w * f.grid_h;
+  vec3 sum = vec3(0.0f);
+  for (uint y = 0u; y < f.h; ++y) {
+    for (uint x = 0u; x < f.w; ++x) {
+      for (uint j = 0u; j < k; ++j) {
+        for (uint i = 0u; i < k; ++i) {
+          vec2 t = vec2(float(x), float(y)) + (vec2(float(i), float(j)) + 0.5f) / float(k);
+          vec2 sl = svo_lum_from_texel(f, t);
+          vec2 uu = vec2(pl) + (sl - vec2(pl)) * ((pl.z + f.delta) / pl.z);
+          vec3 radiance = vec3(0.0f);
+          for (uint m = 0u; m < count; ++m) {
+            float phi = svo_lum_basis(f, m, uu);
+            if (phi > 0.0f) radiance += phi * svo_lum_texel_colour(f, svo_lum_image(f, m), t);
+          }
+          if (!(radiance.x + radiance.y + radiance.z > 0.0f)) continue;
+          vec3 q = svo_lum_on_s(f, t);
+          float r = length(q - p.position);
+          vec3 b = svo_lum_brdf(p, first, q);
+          if (mixed) b = g.material_mix * b + (1.0f - g.material_mix) * svo_lum_brdf(p, second, q);
+          sum += radiance * b * (pl.z / (r * r * r));
+        }
+      }
+    }
+  }
+  return g.coverage * sum * (f.texel_area / float(k * k));
+}
+
+#endif
