@@ -40,6 +40,7 @@ struct RenderArgs {
       shading;  // tracer or forward; empty: forward with --env, --material or the octree's materials, else tracer
   LightingOptions lighting;
   FilterArgs filter;
+  LuminaireArgs luminaires;
   uint32_t seed = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
   bool flat_masks = false;
@@ -148,6 +149,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Shading");
   add_light_options(*cmd, a->view);
   add_filter_options(*cmd, a->filter);
+  add_luminaire_options(*cmd, a->luminaires);
   cmd->add_option("--pass", a->passes,
                   "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
                   "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr), "
@@ -191,6 +193,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     if (root * root != rays) throw std::invalid_argument("--spp " + std::to_string(rays) + " is not a square");
     if (rays != 1 && *mode != render::Mode::RayMarch) {
       throw std::invalid_argument("--spp needs --mode raymarch or --shading forward");
+    }
+    check_luminaire_args(a->luminaires);
+    if (!a->luminaires.files.empty() && *mode != render::Mode::Prefiltered) {
+      throw std::invalid_argument("--luminaire shades the prefiltered G-buffer: it needs --mode prefiltered");
     }
     std::optional<render::Camera> camera = check_view_options(a->view);
     render::image_format(a->output);
@@ -243,6 +249,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
     if (a->shading.empty() && shades_forward(a->lighting, tree) && *mode == render::Mode::Prefiltered && a->spp <= 1) {
       forward = true;
     }
+    // Luminaires light the G-buffer themselves: the forward pass (and its
+    // lights) only with an environment, or when asked for.
+    if (a->shading.empty() && !a->luminaires.files.empty() && a->lighting.env.empty() && !uses_filter(a->filter)) {
+      forward = false;
+    }
     const std::string view_name = tools::view_name(a->view);
     const glm::vec3 centre = tree.origin + glm::vec3(0.5f * tree.size);
     render::RenderSettings settings;
@@ -255,6 +266,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.shading.seed = a->seed;
     apply_lighting(a->lighting, settings);
     apply_filter(a->filter, settings);
+    apply_luminaires(a->luminaires, &tree, settings);
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
@@ -278,6 +290,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     } else if (forward) {
       renderer->add_pass(render::make_pass("forward"));
     }
+    if (!settings.luminaire.luminaires.empty()) renderer->add_pass(std::make_unique<render::LuminairePass>(forward));
     for (const std::string& name : a->passes) renderer->add_pass(render::make_pass(name));
     const double setup_ms = elapsed_ms(setup_start);
     {
@@ -328,6 +341,15 @@ void add_render_command(CLI::App& app, int& exit_code) {
                                                                             {"radius", settings.filter.radius},
                                                                             {"upsample", a->filter.upsample}}
                                                            : nlohmann::json(nullptr)},
+                         {"luminaires", settings.luminaire.luminaires.empty()
+                                            ? nlohmann::json(nullptr)
+                                            : nlohmann::json{{"files", a->luminaires.files},
+                                                             {"sampler", a->luminaires.sampler},
+                                                             {"spp", settings.luminaire.spp},
+                                                             {"kmax", settings.luminaire.kmax},
+                                                             {"visibility", a->luminaires.visibility},
+                                                             {"search", a->luminaires.search},
+                                                             {"sequence", a->luminaires.sequence}}},
                          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
                          {"material", settings.shading.material
                                           ? nlohmann::json::parse(render::material_json(*settings.shading.material))

@@ -18,11 +18,15 @@ void add_bench_command(CLI::App& app, int& exit_code);
 void add_bench_zoom_command(CLI::App& bench, int& exit_code);
 // svo bench lobe-filter (cmd_bench_lobe.cpp): Tokuyoshi 2015's figures.
 void add_bench_lobe_command(CLI::App& bench, int& exit_code);
+// svo bench luminaire (cmd_bench_luminaire.cpp): Lu et al. 2015's figures.
+void add_bench_luminaire_command(CLI::App& bench, int& exit_code);
 void add_compare_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
 void add_devices_command(CLI::App& app, int& exit_code);
 void add_flythrough_command(CLI::App& app, int& exit_code);
 void add_info_command(CLI::App& app, int& exit_code);
+// svo luminaire make|info|sheet|import (cmd_luminaire.cpp): light-field luminaires.
+void add_luminaire_command(CLI::App& app, int& exit_code);
 void add_material_command(CLI::App& app, int& exit_code);
 void add_reference_command(CLI::App& app, int& exit_code);
 void add_render_command(CLI::App& app, int& exit_code);

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   svo::tools::add_devices_command(app, exit_code);
   svo::tools::add_flythrough_command(app, exit_code);
   svo::tools::add_info_command(app, exit_code);
+  svo::tools::add_luminaire_command(app, exit_code);
   svo::tools::add_material_command(app, exit_code);
   svo::tools::add_reference_command(app, exit_code);
   svo::tools::add_render_command(app, exit_code);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -128,6 +129,135 @@ void apply_filter(const FilterArgs& o, render::RenderSettings& settings) {
 void add_filter_passes(const FilterArgs& o, render::Renderer& renderer) {
   renderer.add_pass(std::make_unique<render::ForwardPass>(render::ForwardOutput{true, o.upsample}));
   renderer.add_pass(std::make_unique<render::LobeFilterPass>(o.upsample));
+}
+
+void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
+  cmd.add_option("--luminaire", o.files,
+                 "Light the scene with a light-field luminaire (.lfl: svo luminaire make|import), repeatable up to " +
+                     std::to_string(render::LuminaireOptions::kMaxLuminaires) +
+                     "; without --shading forward the luminaires (and --ambient) are the only light")
+      ->allow_extra_args(false)
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-at", o.at,
+                 "X,Y,Z: the centre of the luminaire's emitting plane, scene units (one per --luminaire in order, or "
+                 "one for all; default: 1.5 domain sizes above and in front of the domain's centre)")
+      ->allow_extra_args(false)
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-aim", o.aim,
+                 "X,Y,Z: the point the luminaire's axis looks at (default: the domain's centre)")
+      ->allow_extra_args(false)
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-size", o.size,
+                 "The luminaire's emitting plane across, scene units (default: its own size in metres, as recorded "
+                 "in the file)")
+      ->allow_extra_args(false)
+      ->check(CLI::PositiveNumber)
+      ->group("Luminaires");
+  cmd.add_option("--sampler", o.sampler,
+                 "How each point samples the luminaires: restricted (Lu et al.: the images' CDFs restricted to what "
+                 "each basis function lets reach the point, samples balanced by energy), uniform (the same regions, "
+                 "uniformly, the same samples per image), global (precomputed CDFs over whole images), box (restricted with "
+                 "the column marginal of the region's own rows, from the summed-area table: density exactly "
+                 "proportional to the image)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"restricted", "uniform", "global", "box"}))
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-spp", o.spp, "Samples per pixel of each luminaire (K)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000000u))
+      ->group("Luminaires");
+  cmd.add_option("--kmax", o.kmax, "Cap on the samples of one image at one pixel (K_max; 0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 1000000u))
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-visibility", o.visibility,
+                 "Shadows of the luminaires by cones through the octree: cells (one cone per basis cell towards its "
+                 "reference light position, shared by the images over it), samples (one per sample: slower, "
+                 "accurate), none")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "cells", "samples"}))
+      ->group("Luminaires");
+  cmd.add_option("--search", o.search, "CDF inversion: secant (the paper's modified secant method) or binary")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"secant", "binary"}))
+      ->group("Luminaires");
+  cmd.add_option("--search-depth", o.depth,
+                 "Steps of the CDF inversion before it interpolates in the interval left (0: until exact)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 255u))
+      ->group("Luminaires");
+  cmd.add_option("--sequence", o.sequence,
+                 "Sample sequence: halton, or random (independent uniform numbers from a hash)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"halton", "random"}))
+      ->group("Luminaires");
+}
+
+namespace {
+
+glm::vec3 parse_point(const std::string& text, const char* option) {
+  glm::vec3 p;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%f,%f,%f%c", &p.x, &p.y, &p.z, &tail) != 3 || !std::isfinite(p.x) ||
+      !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    throw std::invalid_argument(std::string(option) + " '" + text + "': expected X,Y,Z (three finite numbers)");
+  }
+  return p;
+}
+
+template <typename T>
+const T* pick(const std::vector<T>& v, size_t i) {
+  if (v.empty()) return nullptr;
+  return v.size() == 1 ? &v[0] : &v[i];
+}
+
+}  // namespace
+
+void check_luminaire_args(const LuminaireArgs& o) {
+  const size_t n = o.files.size();
+  if (n > render::LuminaireOptions::kMaxLuminaires) {
+    throw std::invalid_argument("--luminaire: at most " + std::to_string(render::LuminaireOptions::kMaxLuminaires) +
+                                " luminaires");
+  }
+  for (const auto& [count, name] : {std::pair{o.at.size(), "--luminaire-at"}, std::pair{o.aim.size(), "--luminaire-aim"},
+                                    std::pair{o.size.size(), "--luminaire-size"}}) {
+    if (count == 0) continue;
+    if (n == 0) throw std::invalid_argument(std::string(name) + " places a luminaire: give --luminaire FILE.lfl");
+    if (count != 1 && count != n) {
+      throw std::invalid_argument(std::string(name) + " is given " + std::to_string(count) + " times for " +
+                                  std::to_string(n) + " luminaires: give it once, or once per --luminaire");
+    }
+  }
+  for (const auto& t : o.at) parse_point(t, "--luminaire-at");
+  for (const auto& t : o.aim) parse_point(t, "--luminaire-aim");
+}
+
+void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render::RenderSettings& settings) {
+  check_luminaire_args(o);
+  render::LuminaireOptions& l = settings.luminaire;
+  l.sampler = render::parse_luminaire_sampler(o.sampler);
+  l.search = render::parse_luminaire_search(o.search);
+  l.visibility = render::parse_luminaire_visibility(o.visibility);
+  l.sequence = render::parse_luminaire_sequence(o.sequence);
+  l.spp = o.spp;
+  l.kmax = o.kmax;
+  l.search_depth = o.depth;
+  l.seed = settings.shading.seed;
+  l.luminaires.clear();
+  const float size = tree ? tree->size : 1.0f;
+  const glm::vec3 centre = tree ? tree->origin + glm::vec3(0.5f * size) : glm::vec3(0.0f);
+  for (size_t i = 0; i < o.files.size(); ++i) {
+    render::PlacedLuminaire p;
+    p.field = std::make_shared<const render::LightField>(render::load_light_field(o.files[i]));
+    const std::string* at = pick(o.at, i);
+    const std::string* aim = pick(o.aim, i);
+    const float* s = pick(o.size, i);
+    p.placement.at = at ? parse_point(*at, "--luminaire-at") : centre + size * glm::vec3(0.0f, 1.2f, 0.9f);
+    p.placement.aim = aim ? parse_point(*aim, "--luminaire-aim") : centre;
+    p.placement.size = s ? *s : 0.0f;
+    render::luminaire_frame(*p.field, p.placement);  // at == aim fails here
+    l.luminaires.push_back(p);
+  }
 }
 
 void add_lighting_options(CLI::App& cmd, LightingOptions& o) {

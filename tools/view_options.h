@@ -47,6 +47,22 @@ struct FilterArgs {
   uint32_t upsample = 1;  // --upsample: 1, 2, 4
 };
 
+// Light-field luminaires (Lu et al. 2015, DESIGN 10.4): --luminaire FILE.lfl
+// (repeatable) with --luminaire-at, --luminaire-aim, --luminaire-size (one
+// each per luminaire, in order, or one for all), and the sampling options.
+struct LuminaireArgs {
+  std::vector<std::string> files;
+  std::vector<std::string> at, aim;  // "X,Y,Z"
+  std::vector<float> size;
+  std::string sampler = "restricted";
+  std::string search = "secant";
+  std::string visibility = "cells";
+  std::string sequence = "halton";
+  uint32_t spp = 200;
+  uint32_t kmax = 0;
+  uint32_t depth = 0;
+};
+
 // --width and --height (group Output).
 void add_size_options(CLI::App& cmd, ViewOptions& o);
 // --view, --camera, --camera-file (mutually exclusive) and --dof (group Camera).
@@ -66,6 +82,17 @@ void apply_filter(const FilterArgs& o, render::RenderSettings& settings);
 // After the tracer: the forward pass with diffuse and specular apart (at
 // 1/upsample of the size) and the lobe-aware filter.
 void add_filter_passes(const FilterArgs& o, render::Renderer& renderer);
+
+// The luminaire options (group Luminaires).
+void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o);
+// Checks the names and placements (no file read).
+// @throw std::invalid_argument naming the option
+void check_luminaire_args(const LuminaireArgs& o);
+// Loads the luminaires and puts them and the options into `settings`; a
+// luminaire without a placement stands above and in front of the domain's
+// centre at 1.5 domain sizes, aimed at the centre.
+// @throw std::runtime_error for a file that does not load
+void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render::RenderSettings& settings);
 
 // Whether an environment or a material is asked for.
 bool uses_lighting(const LightingOptions& o);

@@ -23,7 +23,7 @@ E parse_name(const std::string& name, const std::array<const char*, N>& names, c
   throw std::invalid_argument(std::string(what) + " '" + name + "' is not one of " + list);
 }
 
-constexpr std::array<const char*, 3> kSamplers{"restricted", "uniform", "global"};
+constexpr std::array<const char*, 4> kSamplers{"restricted", "uniform", "global", "box"};
 constexpr std::array<const char*, 2> kSearches{"secant", "binary"};
 constexpr std::array<const char*, 3> kVisibilities{"none", "cells", "samples"};
 constexpr std::array<const char*, 2> kSequences{"halton", "random"};

@@ -138,13 +138,15 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
   float area_total = 0.0f;
   uint nonempty = 0u;
   bool on_s = pl.z <= eps;
+  // The restricted samplers balance the images by A_m (Eq. 12).
+  bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
   if (!on_s && o.sampler_kind != SVO_LUM_SAMPLER_GLOBAL) {
     for (uint m = 0u; m < count; ++m) {
       vec4 box = svo_lum_box(f, m, pl);
       if (box.z > box.x && box.w > box.y) ++nonempty;
-      if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
+      if (balanced) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
     }
-    if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED && !(area_total > 0.0f)) return vec3(0.0f);
+    if (balanced && !(area_total > 0.0f)) return vec3(0.0f);
     if (nonempty == 0u) return vec3(0.0f);
   }
   vec2 t_on_s = svo_lum_to_texel(f, vec2(pl));
@@ -165,7 +167,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
       } else {
         box = svo_lum_box(f, m, pl);
         if (!(box.z > box.x) || !(box.w > box.y)) continue;
-        if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED) {
+        if (balanced) {
           float am = svo_lum_area(f, img, box);
           if (!(am > 0.0f)) continue;
           // Eq. 12, at least one sample for an image that sends light (an
@@ -211,7 +213,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
         if (o.sampler_kind == SVO_LUM_SAMPLER_UNIFORM) {
           s = vec3(mix(vec2(box), vec2(box.z, box.w), u), 1.0f / ((box.z - box.x) * (box.w - box.y)));
         } else {
-          s = svo_lum_sample_box(f, img, box, u, o.search, o.depth);
+          s = svo_lum_sample_box(f, img, box, u, o.search, o.depth, o.sampler_kind == SVO_LUM_SAMPLER_BOX);
         }
         if (!(s.z > 0.0f)) continue;
         vec2 sl = svo_lum_from_texel(f, vec2(s));
@@ -287,9 +289,9 @@ SVO_FN vec4 svo_luminaire_texel(SvoGBuffer g, vec4 base, uint pixel, bool over_c
 
 // Dense quadrature of the same integral (Eq. 4 with the BRDF) without
 // visibility, for the tests and the benchmark's ground truth of one
-// G-buffer: every texel of S that lights the point, k x k points each, each
-// summing the images whose basis reaches its ray. Lobes are drawn with u =
-// (0.5, 0.5): exact for Lambert, Beckmann and GGX, whose lobe takes the
+// G-buffer: for each image, every texel of its projected support's box
+// (Eq. 7: outside it Phi_m is 0), k x k points each. Lobes are drawn with
+// u = (0.5, 0.5): exact for Lambert, Beckmann and GGX, whose lobe takes the
 // voxel's slopes without sampling.
 SVO_FN vec3 svo_luminaire_quadrature(SvoGBuffer g, uint l, uint k) {
   if (!(g.coverage > 0.0f)) return vec3(0.0f);
@@ -302,24 +304,26 @@ SVO_FN vec3 svo_luminaire_quadrature(SvoGBuffer g, uint l, uint k) {
   SvoLobe second = svo_sample_lobe(p, svo_scene_material(g.material2), vec2(0.5f));
   uint count = f.grid_w * f.grid_h;
   vec3 sum = vec3(0.0f);
-  for (uint y = 0u; y < f.h; ++y) {
-    for (uint x = 0u; x < f.w; ++x) {
-      for (uint j = 0u; j < k; ++j) {
-        for (uint i = 0u; i < k; ++i) {
-          vec2 t = vec2(float(x), float(y)) + (vec2(float(i), float(j)) + 0.5f) / float(k);
-          vec2 sl = svo_lum_from_texel(f, t);
-          vec2 uu = vec2(pl) + (sl - vec2(pl)) * ((pl.z + f.delta) / pl.z);
-          vec3 radiance = vec3(0.0f);
-          for (uint m = 0u; m < count; ++m) {
-            float phi = svo_lum_basis(f, m, uu);
-            if (phi > 0.0f) radiance += phi * svo_lum_texel_colour(f, svo_lum_image(f, m), t);
+  for (uint m = 0u; m < count; ++m) {
+    vec4 box = svo_lum_box(f, m, pl);
+    if (!(box.z > box.x) || !(box.w > box.y)) continue;
+    uint img = svo_lum_image(f, m);
+    for (uint y = uint(box.y); y < min(uint(ceil(box.w)), f.h); ++y) {
+      for (uint x = uint(box.x); x < min(uint(ceil(box.z)), f.w); ++x) {
+        vec3 c = svo_lum_texel_colour(f, img, vec2(float(x), float(y)));
+        if (!(c.x + c.y + c.z > 0.0f)) continue;
+        for (uint j = 0u; j < k; ++j) {
+          for (uint i = 0u; i < k; ++i) {
+            vec2 t = vec2(float(x), float(y)) + (vec2(float(i), float(j)) + 0.5f) / float(k);
+            vec2 sl = svo_lum_from_texel(f, t);
+            float phi = svo_lum_basis(f, m, vec2(pl) + (sl - vec2(pl)) * ((pl.z + f.delta) / pl.z));
+            if (!(phi > 0.0f)) continue;
+            vec3 q = svo_lum_on_s(f, t);
+            float r = length(q - p.position);
+            vec3 b = svo_lum_brdf(p, first, q);
+            if (mixed) b = g.material_mix * b + (1.0f - g.material_mix) * svo_lum_brdf(p, second, q);
+            sum += c * phi * b * (pl.z / (r * r * r));
           }
-          if (!(radiance.x + radiance.y + radiance.z > 0.0f)) continue;
-          vec3 q = svo_lum_on_s(f, t);
-          float r = length(q - p.position);
-          vec3 b = svo_lum_brdf(p, first, q);
-          if (mixed) b = g.material_mix * b + (1.0f - g.material_mix) * svo_lum_brdf(p, second, q);
-          sum += radiance * b * (pl.z / (r * r * r));
         }
       }
     }

@@ -10,6 +10,7 @@
 SVO_CONST uint SVO_LUM_SAMPLER_RESTRICTED = 0u;
 SVO_CONST uint SVO_LUM_SAMPLER_UNIFORM = 1u;
 SVO_CONST uint SVO_LUM_SAMPLER_GLOBAL = 2u;
+SVO_CONST uint SVO_LUM_SAMPLER_BOX = 3u;
 SVO_CONST uint SVO_LUM_SEARCH_SECANT = 0u;
 SVO_CONST uint SVO_LUM_SEARCH_BINARY = 1u;
 SVO_CONST uint SVO_LUM_VIS_NONE = 0u;
@@ -194,15 +195,41 @@ SVO_FN float svo_lum_cdf(uint at, uint n, float x) {
   return a + (svo_lum_table(at + i + 1u) - a) * (c - float(i));
 }
 
-// Inverts the CDF at `at` for u in [cdf(lo), cdf(hi)] between texels lo and
-// hi (lo < hi): the x where the piecewise-linear CDF reaches u. Secant: the
+// A piecewise-linear CDF over texels to invert: a table of n + 1 floats at
+// `at` (the images' marginal and column CDFs), or, `rows` set, the mass of
+// image `img` in columns [0, x) and rows [rows.x, rows.y] from the
+// summed-area table (svo_lum_area): the marginal of a box's own rows.
+struct SvoLumCdf {
+  uint at;
+  uint img;
+  bool box;
+  vec2 rows;
+};
+
+SVO_FN SvoLumCdf svo_lum_table_cdf(uint at) {
+  SvoLumCdf c;
+  c.at = at;
+  c.img = 0u;
+  c.box = false;
+  c.rows = vec2(0.0f);
+  return c;
+}
+
+// The CDF at x in [0, n] (not normalised when c.box).
+SVO_FN float svo_lum_cdf_value(SvoLumInfo f, SvoLumCdf c, uint n, float x) {
+  if (c.box) return svo_lum_area(f, c.img, vec4(0.0f, c.rows.x, clamp(x, 0.0f, float(n)), c.rows.y));
+  return svo_lum_cdf(c.at, n, x);
+}
+
+// Inverts the CDF for u in [cdf(lo), cdf(hi)] between texels lo and hi
+// (lo < hi): the x where the piecewise-linear CDF reaches u. Secant: the
 // paper's modified secant method, each step the chord's root, stopping at
 // an interval of one texel, where the CDF is linear (section 5); binary:
 // halving. `depth` > 0 stops after that many steps and returns the chord's
 // root in the interval left (Fig. 5's comparison at equal depth).
-SVO_FN float svo_lum_invert(uint at, uint lo, uint hi, float u, uint method, uint depth) {
-  float clo = svo_lum_table(at + lo);
-  float chi = svo_lum_table(at + hi);
+SVO_FN float svo_lum_invert(SvoLumInfo f, SvoLumCdf cdf, uint n, uint lo, uint hi, float u, uint method, uint depth) {
+  float clo = svo_lum_cdf_value(f, cdf, n, float(lo));
+  float chi = svo_lum_cdf_value(f, cdf, n, float(hi));
   uint steps = 0u;
   // The secant's worst case is linear in the interval: after a bisection's
   // worth of steps it halves instead (only when depth is unlimited).
@@ -216,7 +243,7 @@ SVO_FN float svo_lum_invert(uint at, uint lo, uint hi, float u, uint method, uin
     } else {
       mid = (lo + hi) / 2u;
     }
-    float c = svo_lum_table(at + mid);
+    float c = svo_lum_cdf_value(f, cdf, n, float(mid));
     if (c <= u) {
       lo = mid;
       clo = c;
@@ -230,29 +257,41 @@ SVO_FN float svo_lum_invert(uint at, uint lo, uint hi, float u, uint method, uin
   return float(lo) + t * float(hi - lo);
 }
 
-// A sample x of the CDF at `at` (n intervals) restricted to [a, b] (Eq. 8):
-// x, and its density over x in texel units (0: nothing to sample).
-SVO_FN vec2 svo_lum_sample_1d(uint at, uint n, float a, float b, float u, uint method, uint depth) {
-  float c0 = svo_lum_cdf(at, n, a);
-  float c1 = svo_lum_cdf(at, n, b);
+// A sample x of the CDF (n intervals) restricted to [a, b] (Eq. 8): x, and
+// its density over x in texel units (0: nothing to sample).
+SVO_FN vec2 svo_lum_sample_1d(SvoLumInfo f, SvoLumCdf cdf, uint n, float a, float b, float u, uint method, uint depth) {
+  float c0 = svo_lum_cdf_value(f, cdf, n, a);
+  float c1 = svo_lum_cdf_value(f, cdf, n, b);
   if (!(c1 > c0)) return vec2(0.0f);
   float target = c0 + u * (c1 - c0);
   uint lo = min(uint(a), n - 1u);
   uint hi = min(uint(ceil(b)), n);
   if (hi <= lo) hi = lo + 1u;
-  float x = clamp(svo_lum_invert(at, lo, hi, target, method, depth), a, b);
+  float x = clamp(svo_lum_invert(f, cdf, n, lo, hi, target, method, depth), a, b);
   uint i = min(uint(x), n - 1u);
-  float slope = svo_lum_table(at + i + 1u) - svo_lum_table(at + i);
+  float slope = svo_lum_cdf_value(f, cdf, n, float(i + 1u)) - svo_lum_cdf_value(f, cdf, n, float(i));
   return vec2(x, slope / (c1 - c0));
 }
 
 // A point of image `img` drawn from its CDFs restricted to `box` (texel
 // coordinates): xy the point, z its density per unit texel area (0: none).
-SVO_FN vec3 svo_lum_sample_box(SvoLumInfo f, uint img, vec4 box, vec2 u, uint method, uint depth) {
-  vec2 sx = svo_lum_sample_1d(img, f.w, box.x, box.z, u.x, method, depth);
+// The paper's Eq. 8 (in_box false): the image's marginal over columns
+// restricted to the box's columns, then the column's CDF restricted to its
+// rows; its density is C_m / A_m only where every column holds the same
+// share of its energy in the box's rows, and the estimator divides by the
+// density itself. in_box: the marginal of the box's own rows, from the
+// summed-area table, so that the density is exactly C_m / A_m (Eq. 10).
+SVO_FN vec3 svo_lum_sample_box(SvoLumInfo f, uint img, vec4 box, vec2 u, uint method, uint depth, bool in_box) {
+  SvoLumCdf marginal = svo_lum_table_cdf(img);
+  if (in_box) {
+    marginal.img = img;
+    marginal.box = true;
+    marginal.rows = vec2(box.y, box.w);
+  }
+  vec2 sx = svo_lum_sample_1d(f, marginal, f.w, box.x, box.z, u.x, method, depth);
   if (!(sx.y > 0.0f)) return vec3(0.0f);
   uint column = min(uint(sx.x), f.w - 1u);
-  vec2 sy = svo_lum_sample_1d(svo_lum_cond(f, img, column), f.h, box.y, box.w, u.y, method, depth);
+  vec2 sy = svo_lum_sample_1d(f, svo_lum_table_cdf(svo_lum_cond(f, img, column)), f.h, box.y, box.w, u.y, method, depth);
   if (!(sy.y > 0.0f)) return vec3(0.0f);
   return vec3(sx.x, sy.x, sx.y * sy.y);
 }

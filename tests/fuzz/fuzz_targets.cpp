@@ -1,6 +1,7 @@
 #include "fuzz_targets.h"
 
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <OpenImageIO/imageio.h>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "svo/render/camera.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
+#include "svo/render/luminaire.h"
 #include "svo/render/merl.h"
 #include "svo/render/shading.h"
 #include "svo/voxelizer/mesh.h"
@@ -334,8 +336,55 @@ int scene_file(const uint8_t* data, size_t size) {
   }
 }
 
+int luminaire(const uint8_t* data, size_t size) {
+  std::vector<uint8_t> bytes(data, data + size);
+  if (bytes.size() >= 8) {
+    const uint64_t sum = XXH64(bytes.data(), bytes.size() - 8, 0);
+    for (int k = 0; k < 8; ++k) bytes[bytes.size() - 8 + size_t(k)] = uint8_t(sum >> (8 * k));
+  }
+  render::LightField field;
+  try {
+    field = render::parse_light_field(bytes.data(), bytes.size(), "fuzz.lfl");
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+  // What was accepted is valid and writes back to bytes that parse back.
+  try {
+    render::validate_light_field(field);
+    const std::vector<uint8_t> again = render::encode_light_field(field);
+    const render::LightField back = render::parse_light_field(again.data(), again.size(), "fuzz-again.lfl");
+    if (back.width != field.width || back.height != field.height || back.grid_w != field.grid_w ||
+        back.grid_h != field.grid_h || back.images.size() != field.images.size() || back.source != field.source ||
+        back.units != field.units) {
+      broken("an accepted light field parses back with other counts");
+    }
+  } catch (const std::runtime_error& e) {
+    broken(std::string("an accepted light field does not round-trip: ") + e.what());
+  }
+  return 1;
+}
+
+int tm25(const uint8_t* data, size_t size) {
+  std::vector<uint8_t> bytes(data, data + size);
+  if (bytes.size() >= 288) bytes.insert(bytes.begin() + 288, 36000, uint8_t(0));
+  TempFile file(bytes.data(), bytes.size(), ".tm25ray");
+  render::LightField field;
+  try {
+    field = render::import_tm25(file.path, 3, 8);
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+  try {
+    render::validate_light_field(field);
+  } catch (const std::runtime_error& e) {
+    broken(std::string("an imported light field is not valid: ") + e.what());
+  }
+  return 1;
+}
+
 std::vector<std::string> target_names() {
-  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl", "environment", "material", "scene_file"};
+  return {"svo_load", "mesh_arrays", "mesh_file", "camera",   "texture",
+          "merl",     "environment", "material",  "scene_file", "luminaire", "tm25"};
 }
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {
@@ -348,6 +397,8 @@ int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "environment") return environment(data, size);
   if (name == "material") return material(data, size);
   if (name == "scene_file") return scene_file(data, size);
+  if (name == "luminaire") return luminaire(data, size);
+  if (name == "tm25") return tm25(data, size);
   throw std::invalid_argument("no fuzz target " + name);
 }
 

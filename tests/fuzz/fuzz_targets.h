@@ -60,6 +60,19 @@ int material(const uint8_t* data, size_t size);
 // indices in range, unit normals, finite bounds) and its materials parsed.
 int scene_file(const uint8_t* data, size_t size);
 
+// parse_light_field on the bytes (a .lfl file, docs/luminaire.md), its
+// trailing XXH64 recomputed first (so that mutations reach the checks
+// behind it); an accepted field must pass validate_light_field and encode
+// to bytes that parse back to the same counts.
+int luminaire(const uint8_t* data, size_t size);
+
+// import_tm25 (grid 3, resolution 8) on a TM-25 ray file made from the
+// bytes: when there are at least 288, the 36000-byte description block
+// (nine UTF-32 strings, zeros) is inserted after the first 288, so that
+// small seeds reach the rays; an accepted import must pass
+// validate_light_field.
+int tm25(const uint8_t* data, size_t size);
+
 // The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
 // u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
 // positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
@@ -72,8 +85,8 @@ struct MeshSeed {
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
 
 // Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
-// mesh_arrays, mesh_file, camera, texture, merl, environment, material, scene_file), made by the library's own
-// writers; seeds named refused-* are inputs the loader must refuse. Returns
+// mesh_arrays, mesh_file, camera, texture, merl, environment, material, scene_file, luminaire, tm25), made by the
+// library's own writers; seeds named refused-* are inputs the loader must refuse. Returns
 // the number of files written.
 int write_seeds(const std::filesystem::path& dir);
 

@@ -14,6 +14,8 @@
 #include "svo/render/camera.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
+#include "svo/render/luminaire.h"
+#include "render/tm25_writer.h"
 
 namespace svo::fuzz {
 
@@ -274,6 +276,66 @@ int write_seeds(const fs::path& dir) {
       put(d / names[k], std::vector<uint8_t>(text.begin(), text.end()));
       ++count;
     }
+  }
+  // Light fields (.lfl): both procedural emitters at small sizes (about
+  // 3 KB each), one with the other basis and a non-square grid, and refused
+  // ones whose checksum the target reseals (so only their values are wrong).
+  {
+    fs::path d = target("luminaire");
+    render::LightField panel = render::make_panel_luminaire(8, 2, 100.0f, 2);
+    render::LightField headlight = render::make_headlight_luminaire(8, 2, 500.0f);
+    render::LightField odd = render::make_headlight_luminaire(6, 3, 20.0f);
+    odd.basis = render::LuminaireBasis::Quadratic;
+    odd.grid_h = 1;
+    odd.images.resize(3);
+    odd.units = "mm";
+    odd.metres_per_unit = 0.001f;
+    odd.pose = {{0.0f, 1.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 0.5f};
+    put(d / "panel.lfl", render::encode_light_field(panel));
+    put(d / "headlight.lfl", render::encode_light_field(headlight));
+    put(d / "quadratic.lfl", render::encode_light_field(odd));
+    std::vector<uint8_t> nan = render::encode_light_field(panel);
+    const uint32_t images_at = uint32_t(nan[12]) | uint32_t(nan[13]) << 8;  // the header's length (< 65536)
+    const float bad = std::nanf("");
+    std::memcpy(&nan[images_at + 4 * 5], &bad, 4);
+    put(d / "refused-nan.lfl", nan);
+    std::vector<uint8_t> grid = render::encode_light_field(panel);
+    grid[36] = 3;  // grid_w 3: more images than bytes
+    put(d / "refused-grid.lfl", grid);
+    count += 5;
+  }
+  // TM-25 ray files (the target inserts the description block): a small
+  // Lambertian-like square, a photometric one with tristimulus colour and a
+  // spectral table, and refused ones (a count that lies, a NaN origin).
+  {
+    fs::path d = target("tm25");
+    testing::Tm25File square;
+    square.compact = true;
+    for (int k = 0; k < 100; ++k) {
+      const float x = float(k % 10) * 0.1f - 0.45f, y = float(k / 10) * 0.1f - 0.45f;
+      const float t = 0.1f * float(k % 7), p = 0.9f * float(k);
+      square.rays.push_back({x, y, 0.0f, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t), 0.01f});
+    }
+    testing::Tm25File warm = square;
+    warm.photometric = true;
+    warm.tristimulus = true;
+    warm.spectrum_points = 0;
+    for (auto& r : warm.rays) {
+      r.tri_x = 1.2f * r.flux;
+      r.tri_z = 0.5f * r.flux;
+    }
+    testing::Tm25File spectral = square;
+    spectral.spectrum_points = 9;
+    put(d / "square", testing::encode_tm25(square));
+    put(d / "warm", testing::encode_tm25(warm));
+    put(d / "spectral", testing::encode_tm25(spectral));
+    testing::Tm25File lie = square;
+    lie.count_override = 101;
+    put(d / "refused-count", testing::encode_tm25(lie));
+    testing::Tm25File nan = square;
+    nan.rays[7].x = std::nanf("");
+    put(d / "refused-nan", testing::encode_tm25(nan));
+    count += 5;
   }
   return count;
 }

@@ -118,7 +118,7 @@ TEST(LuminaireTables, AreaFromTheSummedAreaTableEqualsDirectSummation) {
 // Draws many points of image m restricted to a box and compares the texel
 // histogram with the restricted density the sampler reports (chi-square),
 // and checks that the mean of 1 / density is the measure of the box's lit part.
-void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box, uint32_t method) {
+void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box, uint32_t method, bool in_box) {
   const uint32_t img = t.reader.svo_lum_image(t.info, m);
   const uint32_t w = f.width, h = f.height;
   const uint32_t n = 200000;
@@ -128,7 +128,7 @@ void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box,
   double inverse = 0;
   uint32_t drawn = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    const glm::vec3 s = t.reader.svo_lum_sample_box(t.info, img, box, {u(rng), u(rng)}, method, 0);
+    const glm::vec3 s = t.reader.svo_lum_sample_box(t.info, img, box, {u(rng), u(rng)}, method, 0, in_box);
     if (!(s.z > 0)) continue;
     ASSERT_TRUE(s.x >= box.x && s.x <= box.z && s.y >= box.y && s.y <= box.w) << "a sample outside its box";
     const uint32_t x = std::min(uint32_t(s.x), w - 1), y = std::min(uint32_t(s.y), h - 1);
@@ -136,21 +136,24 @@ void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box,
     inverse += 1.0 / s.z;
     ++drawn;
   }
-  // The density of Eq. 8: the column by the restricted marginal, the row by
-  // the column's restricted CDF.
+  // The density of Eq. 8: the column by the restricted marginal (in_box:
+  // the box's own mass in the column, by direct summation), the row by the
+  // column's restricted CDF.
   auto cdf = [&](uint32_t at, uint32_t len, double x) { return double(t.reader.svo_lum_cdf(at, len, float(x))); };
   const double mx0 = cdf(img, w, box.x), mx1 = cdf(img, w, box.z);
+  const double area = direct_area(f, m, box, t.info.texel_area);
   double lit = 0;
   for (uint32_t x = 0; x < w; ++x) {
     const double a = std::max<double>(x, box.x), b = std::min<double>(x + 1, box.z);
     if (b <= a) continue;
-    const double px = (cdf(img, w, b) - cdf(img, w, a)) / (mx1 - mx0);
+    const double px = in_box ? direct_area(f, m, {a, box.y, b, box.w}, t.info.texel_area) / area
+                             : (cdf(img, w, b) - cdf(img, w, a)) / (mx1 - mx0);
     const uint32_t col = t.reader.svo_lum_cond(t.info, img, x);
     const double f0 = cdf(col, h, box.y), f1 = cdf(col, h, box.w);
     for (uint32_t y = 0; y < h; ++y) {
       const double c = std::max<double>(y, box.y), d = std::min<double>(y + 1, box.w);
       if (d <= c) continue;
-      if (luminance(&f.images[m][3 * (size_t(y) * w + x)]) > 0 && f1 > f0) lit += (b - a) * (d - c);
+      if (luminance(&f.images[m][3 * (size_t(y) * w + x)]) > 0 && f1 > f0 && px > 0) lit += (b - a) * (d - c);
       if (f1 > f0) expected[size_t(y) * w + x] = n * px * (cdf(col, h, d) - cdf(col, h, c)) / (f1 - f0);
     }
   }
@@ -171,8 +174,9 @@ void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box,
     ++dof;
   }
   const double p = test::chi_square_p_value(stat, std::max(dof, 1));
-  std::printf("image %u box (%.2f,%.2f)-(%.2f,%.2f) %s: chi2 %.1f, dof %d, p %.3f; mean 1/pdf %.3f vs lit area %.3f\n",
-              m, box.x, box.y, box.z, box.w, method == 0 ? "secant" : "binary", stat, dof, p, inverse / n, lit);
+  std::printf("image %u box (%.2f,%.2f)-(%.2f,%.2f) %s%s: chi2 %.1f, dof %d, p %.3f; mean 1/pdf %.3f vs lit area %.3f\n",
+              m, box.x, box.y, box.z, box.w, method == 0 ? "secant" : "binary", in_box ? ", box rows" : "", stat, dof,
+              p, inverse / n, lit);
   EXPECT_GT(p, 0.001) << "the samples do not follow the restricted density";
   // E[1 / pdf] over all draws (0 for a draw that found nothing) is the
   // measure of the set where the density is > 0.
@@ -183,10 +187,38 @@ void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box,
 TEST(LuminaireTables, RestrictedCdfsFollowTheRestrictedDensity) {
   const auto field = test_field(32, 3);
   Tables t = make_tables(field);
-  check_restricted(t, *field, 4, {5.3f, 7.6f, 27.2f, 29.9f}, 0);
-  check_restricted(t, *field, 4, {5.3f, 7.6f, 27.2f, 29.9f}, 1);
-  check_restricted(t, *field, 0, {0.0f, 0.0f, 32.0f, 32.0f}, 0);
-  check_restricted(t, *field, 8, {12.5f, 3.0f, 20.25f, 18.5f}, 0);  // across the dark quarter's edge
+  for (bool in_box : {false, true}) {
+    check_restricted(t, *field, 4, {5.3f, 7.6f, 27.2f, 29.9f}, 0, in_box);
+    check_restricted(t, *field, 4, {5.3f, 7.6f, 27.2f, 29.9f}, 1, in_box);
+    check_restricted(t, *field, 0, {0.0f, 0.0f, 32.0f, 32.0f}, 0, in_box);
+    check_restricted(t, *field, 8, {12.5f, 3.0f, 20.25f, 18.5f}, 0, in_box);  // across the dark quarter's edge
+  }
+}
+
+// With the box's own rows, the density is C_m / A_m (Eq. 10) wherever the
+// column CDFs' floor does not lift it (texels above 1% of the brightest).
+TEST(LuminaireTables, TheBoxRowsSamplerHasDensityCOverA) {
+  const auto field = test_field(32, 3);
+  Tables t = make_tables(field);
+  const LightField& f = *field;
+  const glm::vec4 box{3.5f, 9.25f, 28.75f, 20.5f};  // through the spots' rows
+  for (uint32_t m : {0u, 4u, 7u}) {
+    const uint32_t img = t.reader.svo_lum_image(t.info, m);
+    const double area = direct_area(f, m, box, t.info.texel_area);
+    double brightest = 0;
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i) brightest = std::max(brightest, luminance(&f.images[m][3 * i]));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    double worst = 0;
+    for (int i = 0; i < 5000; ++i) {
+      const glm::vec3 s = t.reader.svo_lum_sample_box(t.info, img, box, {u(rng), u(rng)}, 0, 0, true);
+      ASSERT_GT(s.z, 0.0f);
+      const double c = luminance(&f.images[m][3 * (size_t(s.y) * f.width + size_t(s.x))]);
+      if (c < 0.01 * brightest) continue;
+      worst = std::max(worst, std::abs(s.z * area / (c * t.info.texel_area) - 1.0));
+    }
+    EXPECT_LT(worst, 2e-3) << "image " << m << ": the density is not C_m / A_m";
+  }
 }
 
 TEST(LuminaireTables, SecantAndBinarySearchFindTheSamePoint) {
@@ -197,8 +229,9 @@ TEST(LuminaireTables, SecantAndBinarySearchFindTheSamePoint) {
   const uint32_t img = t.reader.svo_lum_image(t.info, 1);
   for (int i = 0; i < 2000; ++i) {
     const float target = u(rng);
-    const float a = t.reader.svo_lum_invert(img, 0, 64, target, 0, 0);
-    const float b = t.reader.svo_lum_invert(img, 0, 64, target, 1, 0);
+    const auto cdf = t.reader.svo_lum_table_cdf(img);
+    const float a = t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, 0, 0);
+    const float b = t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, 1, 0);
     ASSERT_NEAR(a, b, 1e-3f) << "at u = " << target;
     ASSERT_NEAR(t.reader.svo_lum_cdf(img, 64, a), target, 1e-5f);
   }
@@ -259,7 +292,8 @@ TEST_F(LuminaireOnBothHosts, EachSamplerIsUnbiased) {
   for (const auto& c : truth.colour) lit += c.g > 0 ? 1 : 0;
   ASSERT_GT(lit, 100) << "the luminaire must light most of the sphere";
   const uint32_t runs = 256;
-  for (LuminaireSampler sampler : {LuminaireSampler::Restricted, LuminaireSampler::Uniform, LuminaireSampler::Global}) {
+  for (LuminaireSampler sampler : {LuminaireSampler::Restricted, LuminaireSampler::Box, LuminaireSampler::Uniform,
+                                   LuminaireSampler::Global}) {
     for (auto& r : renderers_) {
       const size_t n = truth.colour.size();
       std::vector<double> sum(n, 0.0), sum2(n, 0.0);

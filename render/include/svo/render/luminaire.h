@@ -87,8 +87,9 @@ struct LightField {
 void validate_light_field(const LightField& field);
 
 // Writes a .lfl file (docs/luminaire.md) to a temporary name in the same
-// folder and renames it over `path`.
-// @throw std::runtime_error "PATH: why" (one line)
+// folder and renames it over `path`; refuses a field validate_light_field
+// refuses before it writes anything.
+// @throw std::runtime_error "luminaire: PATH: why" (one line)
 void save_light_field(const LightField& field, const std::filesystem::path& path);
 
 // Reads a .lfl file, checking the magic, version, every count and size
@@ -132,6 +133,8 @@ enum class LuminaireSampler : uint32_t {
   Restricted = 0,  // the paper's: image CDFs restricted to the projected support (Eq. 7-8), balanced by A_m (Eq. 12)
   Uniform = 1,     // the same box sampled uniformly, the same share of samples for every image (Fig. 12)
   Global = 2,      // precomputed global CDFs: images by their total energy, texels over the whole image (Fig. 11)
+  Box = 3,         // as Restricted, the marginal over columns taken from the box's own rows (summed-area
+                   // table), so that the density is exactly C_m / A_m (Eq. 10); Eq. 8's is not (docs/luminaire.md)
 };
 // The inversion of the CDFs (Fig. 5).
 enum class LuminaireSearch : uint32_t { Secant = 0, Binary = 1 };
@@ -142,7 +145,7 @@ enum class LuminaireVisibility : uint32_t { None = 0, Cells = 1, Samples = 2 };
 // PCG hash per sample, standing for the paper's Mersenne twister).
 enum class LuminaireSequence : uint32_t { Halton = 0, Random = 1 };
 
-const char* luminaire_sampler_name(LuminaireSampler s);  // "restricted", "uniform", "global"
+const char* luminaire_sampler_name(LuminaireSampler s);  // "restricted", "uniform", "global", "box"
 const char* luminaire_search_name(LuminaireSearch s);    // "secant", "binary"
 const char* luminaire_visibility_name(LuminaireVisibility v);  // "none", "cells", "samples"
 const char* luminaire_sequence_name(LuminaireSequence s);      // "halton", "random"
