@@ -47,7 +47,9 @@ using bench::sci;
 
 struct LuminaireBenchArgs {
   std::string scene = "material-spheres";
-  std::string luminaire;  // empty: the procedural headlight
+  // Procedural emitters by name (led, headlight) or .lfl files; part 1 runs
+  // for each, the other parts for the first.
+  std::vector<std::string> luminaires{"led", "headlight"};
   uint32_t resolution = 128;
   uint32_t size = 192;
   uint32_t spp = 256;
@@ -154,9 +156,14 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   // The luminaire: a file, or the headlight, above and in front of the
   // scene, aimed a little below its centre; a deterministic material
   // (the quadrature's lobes must not be sampled).
-  auto field = std::make_shared<const render::LightField>(
-      a.luminaire.empty() ? render::make_headlight_luminaire(128, 5, 100.0f, 0.05f, 0.12f)
-                          : render::load_light_field(a.luminaire));
+  auto emitter = [](const std::string& name) {
+    if (name == "led") return render::make_led_luminaire(128, 5, 300.0f);
+    if (name == "headlight") return render::make_headlight_luminaire(128, 5, 100.0f, 0.05f, 0.12f);
+    return render::load_light_field(name);
+  };
+  std::vector<std::shared_ptr<const render::LightField>> fields;
+  for (const auto& name : a.luminaires) fields.push_back(std::make_shared<const render::LightField>(emitter(name)));
+  auto field = fields.front();
   const glm::vec3 centre = tree.origin + glm::vec3(0.5f * tree.size);
   render::RenderSettings base;
   base.width = base.height = a.size;
@@ -186,8 +193,14 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
     change(s);
     return renderer->render(s);
   };
-  bar.update("quadrature (ground truth)", 0.0);
-  const render::Frame truth = render_with([&](render::RenderSettings& s) { s.luminaire.quadrature = a.quadrature; });
+  auto quadrature = [&](const std::shared_ptr<const render::LightField>& f) {
+    bar.update("quadrature (ground truth) of " + f->source, 0.0);
+    return render_with([&](render::RenderSettings& s) {
+      s.luminaire.luminaires[0].field = f;
+      s.luminaire.quadrature = a.quadrature;
+    });
+  };
+  const render::Frame truth = quadrature(field);
   render::write_colour((dir / "truth.exr").string(), truth);
   render::write_colour((dir / "truth.png").string(), truth);
 
@@ -196,7 +209,7 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   results["scene"] = a.scene;
   results["resolution"] = a.resolution;
   results["size"] = a.size;
-  results["luminaire"] = field->source;
+  results["luminaire"] = field->source;  // parts 2-6
   results["material"] = material->name;
   std::ofstream csv(dir / "results.csv");
   csv << "part,case,spp,lab,relmse,ms\n";
@@ -213,66 +226,72 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
     csv.flush();
     return e;
   };
-  auto with_sampler = [&](render::LuminaireSampler sampler, uint32_t spp) {
-    return render_with([&](render::RenderSettings& s) {
-      s.luminaire.sampler = sampler;
-      s.luminaire.spp = spp;
-    });
-  };
   auto flush = [&] {
     std::ofstream(dir / "table.md") << md.str();
     std::ofstream(dir / "results.json") << results.dump(2) << "\n";
   };
 
   if (wants(1)) {
-    bar.update("part 1: samplers at equal samples", 0.0);
-    md << "## 1. Restricted, uniform and global sampling (Figs. 11, 12)\n\n| sampler | spp | mean Lab error | "
-          "relMSE | luminaire pass ms |\n|---|---|---|---|---|\n";
-    std::vector<render::Frame> frames;
-    double restricted_error = 0;
-    for (auto sampler : {render::LuminaireSampler::Restricted, render::LuminaireSampler::Uniform,
-                         render::LuminaireSampler::Global, render::LuminaireSampler::Box}) {
-      frames.push_back(with_sampler(sampler, a.spp));
-      const double e = record("equal_spp", render::luminaire_sampler_name(sampler), a.spp, frames.back(), truth);
-      if (sampler == render::LuminaireSampler::Restricted) restricted_error = e;
-      md << "| " << render::luminaire_sampler_name(sampler) << " | " << a.spp << " | " << bench::fmt(e, 3) << " | "
-         << sci(relmse(frames.back(), truth)) << " | " << bench::fmt(pass_ms(frames.back(), "luminaire"), 0) << " |\n";
-      render::write_colour((dir / (std::string("equal-spp-") + render::luminaire_sampler_name(sampler) + ".png")).string(),
-                           frames.back());
-    }
-    const double uniform_error = results["equal_spp"][1]["lab"].get<double>();
-    const double global_error = results["equal_spp"][2]["lab"].get<double>();
-    md << "\nLab error ratio at " << a.spp << " spp: uniform / restricted " << bench::fmt(uniform_error / restricted_error, 2)
-       << " (paper: 2.4), global / restricted " << bench::fmt(global_error / restricted_error, 2)
-       << "; uniform / box " << bench::fmt(uniform_error / results["equal_spp"][3]["lab"].get<double>(), 2) << ".\n\n";
-    flush();
-    for (auto [sampler, cap] : {std::pair{render::LuminaireSampler::Uniform, a.max_uniform_spp},
-                                std::pair{render::LuminaireSampler::Global, a.max_global_spp}}) {
-      const std::string name = render::luminaire_sampler_name(sampler);
-      bar.update("part 1: " + name + " at equal error", 0.0);
-      EqualError eq = equal_error(
-          [&](uint32_t k) {
-            const render::Frame f = with_sampler(sampler, k);
-            return record("equal_error", name, k, f, truth);
-          },
-          restricted_error, a.spp, cap);
-      md << "- " << name << " reaches the restricted sampler's error (" << bench::fmt(restricted_error, 3) << " at "
-         << a.spp << " spp) at ";
-      if (eq.spp > 0) {
-        md << bench::fmt(eq.spp, 0) << " spp: " << bench::fmt(eq.spp / a.spp, 1) << "x the samples";
-      } else {
-        md << "more than " << cap << " spp (error " << bench::fmt(eq.sweep.back().second, 3) << " there): more than "
-           << bench::fmt(double(cap) / a.spp, 0) << "x the samples";
+    for (size_t e_i = 0; e_i < fields.size(); ++e_i) {
+      const auto& f1 = fields[e_i];
+      const std::string tag = a.luminaires[e_i];
+      const render::Frame truth1 = e_i == 0 ? truth : quadrature(f1);
+      auto sample = [&](render::LuminaireSampler sampler, uint32_t spp) {
+        return render_with([&](render::RenderSettings& s) {
+          s.luminaire.luminaires[0].field = f1;
+          s.luminaire.sampler = sampler;
+          s.luminaire.spp = spp;
+        });
+      };
+      const std::string part = "equal_spp_" + tag;
+      bar.update("part 1: samplers at equal samples, " + tag, 0.0);
+      md << "## 1. Restricted, uniform and global sampling (Figs. 11, 12): " << f1->source << "\n\n| sampler | spp | "
+            "mean Lab error | relMSE | luminaire pass ms |\n|---|---|---|---|---|\n";
+      std::vector<render::Frame> frames;
+      std::vector<double> errors;
+      for (auto sampler : {render::LuminaireSampler::Restricted, render::LuminaireSampler::Uniform,
+                           render::LuminaireSampler::Global, render::LuminaireSampler::Box}) {
+        frames.push_back(sample(sampler, a.spp));
+        errors.push_back(record(part, render::luminaire_sampler_name(sampler), a.spp, frames.back(), truth1));
+        md << "| " << render::luminaire_sampler_name(sampler) << " | " << a.spp << " | " << bench::fmt(errors.back(), 3)
+           << " | " << sci(relmse(frames.back(), truth1)) << " | "
+           << bench::fmt(pass_ms(frames.back(), "luminaire"), 0) << " |\n";
       }
-      md << " (sweep:";
-      for (const auto& [k, e] : eq.sweep) md << " " << k << " spp " << bench::fmt(e, 3) << ";";
-      md << ")\n";
+      const double restricted_error = errors[0];
+      md << "\nLab error ratio at " << a.spp << " spp: uniform / restricted " << bench::fmt(errors[1] / errors[0], 2)
+         << " (paper: 2.4), global / restricted " << bench::fmt(errors[2] / errors[0], 2) << "; uniform / box "
+         << bench::fmt(errors[1] / errors[3], 2) << ".\n\n";
+      flush();
+      for (auto [sampler, cap] : {std::pair{render::LuminaireSampler::Uniform, a.max_uniform_spp},
+                                  std::pair{render::LuminaireSampler::Global, a.max_global_spp}}) {
+        const std::string name = render::luminaire_sampler_name(sampler);
+        bar.update("part 1: " + name + " at equal error, " + tag, 0.0);
+        EqualError eq = equal_error(
+            [&](uint32_t k) {
+              const render::Frame f = sample(sampler, k);
+              return record("equal_error_" + tag, name, k, f, truth1);
+            },
+            restricted_error, a.spp, cap);
+        md << "- " << name << " reaches the restricted sampler's error (" << bench::fmt(restricted_error, 3) << " at "
+           << a.spp << " spp) at ";
+        if (eq.spp > 0) {
+          md << bench::fmt(eq.spp, 0) << " spp: " << bench::fmt(eq.spp / a.spp, 1) << "x the samples";
+        } else {
+          md << "more than " << cap << " spp (error " << bench::fmt(eq.sweep.back().second, 3)
+             << " there): more than " << bench::fmt(double(cap) / a.spp, 0) << "x the samples";
+        }
+        md << " (sweep:";
+        for (const auto& [k, e] : eq.sweep) md << " " << k << " spp " << bench::fmt(e, 3) << ";";
+        md << ")\n";
+        results["equal_error_spp_" + tag][name] = eq.spp;
+        flush();
+      }
+      render::Frame s = bench::strip({{&truth1, &frames[0], &frames[3], &frames[1], &frames[2]}});
+      render::write_colour((dir / ("samplers-" + tag + ".png")).string(), s);
+      md << "\nImages: samplers-" << tag << ".png (quadrature, restricted, box, uniform, global at " << a.spp
+         << " spp).\n\n";
       flush();
     }
-    render::Frame s = bench::strip({{&truth, &frames[0], &frames[3], &frames[1], &frames[2]}});
-    render::write_colour((dir / "samplers.png").string(), s);
-    md << "\nImages: samplers.png (quadrature, restricted, box, uniform, global at " << a.spp << " spp).\n\n";
-    flush();
   }
 
   if (wants(2)) {
@@ -426,7 +445,11 @@ void add_bench_luminaire_command(CLI::App& bench, int& exit_code) {
       "(Fig. 8), secant against binary search (Fig. 5), cell against per-sample visibility (Fig. 7) and frame times "
       "(Fig. 10); writes table.md, results.csv, results.json and images to --out");
   cmd->add_option("--scene", a->scene, "Built-in scene")->capture_default_str();
-  cmd->add_option("--luminaire", a->luminaire, "A .lfl file (default: the procedural headlight, 5x5 images of 128^2, beam 0.05, focus 0.12 m)");
+  cmd->add_option("--luminaires", a->luminaires,
+                  "Emitters: led (an LED headlight, 3x3 dies), headlight (a smooth converging beam), or .lfl files; "
+                  "part 1 runs for each, the others for the first")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis of the octree")
       ->capture_default_str()
       ->check(CLI::Range(16u, 1024u));

@@ -49,7 +49,8 @@ void check_lfl_output(const std::string& path) {
 struct MakeArgs {
   std::string kind, output;
   uint32_t resolution = 128, grid = 5, checks = 4;
-  float radiance = 1000.0f, beam = 0.08f, focus = 0.5f;
+  float radiance = 1000.0f, beam = 0.08f, focus = 0.5f, die = 0.015f;
+  uint32_t leds = 3;
 };
 
 struct Stats {
@@ -173,8 +174,11 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
       "make",
       "Write a procedural light field whose radiance is known: panel, a Lambertian textured plane (a checker, every "
       "image the same); headlight, a narrow beam converging to a hot spot (each image a spot seen from its basis "
-      "function). Plane S is 0.1 m across, 0.05 m from U");
-  make->add_option("KIND", m->kind, "panel or headlight")->required()->check(CLI::IsMember({"panel", "headlight"}));
+      "function); led, an LED headlight: an array of small dies whose beams converge to foci spread across the road "
+      "(each image a sharp spot per die, mostly dark). Plane S is 0.1 m across, 0.05 m from U");
+  make->add_option("KIND", m->kind, "panel, headlight or led")
+      ->required()
+      ->check(CLI::IsMember({"panel", "headlight", "led"}));
   make->add_option("-o,--output", m->output, "The .lfl file (written to a temporary name, then renamed)")
       ->required()
       ->group("Output");
@@ -196,25 +200,37 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
                    ->default_val(0.08f)
                    ->check(CLI::PositiveNumber)
                    ->group("Headlight");
-  auto* focus = make->add_option("--focus", m->focus, "headlight: where the beam converges, metres beyond S, > 0")
-                    ->default_val(0.5f)
+  auto* focus = make->add_option("--focus", m->focus,
+                                 "headlight, led: where the beams converge, metres beyond S, > 0 (default: headlight "
+                                 "0.5, led 0.12)")
                     ->check(CLI::PositiveNumber)
                     ->group("Headlight");
+  auto* leds = make->add_option("--leds", m->leds, "led: dies per side, 1 to 8")
+                   ->default_val(3)
+                   ->check(CLI::Range(1u, 8u))
+                   ->group("LED");
+  auto* die = make->add_option("--die", m->die, "led: each die's spot width, a fraction of S's extent, > 0")
+                  ->default_val(0.015f)
+                  ->check(CLI::PositiveNumber)
+                  ->group("LED");
   auto* checks = make->add_option("--checks", m->checks, "panel: checker squares per side, 1 to 1024")
                      ->default_val(4)
                      ->check(CLI::Range(1u, 1024u))
                      ->group("Panel");
-  make->callback([m, beam, focus, checks, &exit_code] {
-    if (m->kind == "panel" && (beam->count() > 0 || focus->count() > 0)) {
-      throw std::invalid_argument("--beam and --focus are options of make headlight, not of make panel");
-    }
-    if (m->kind == "headlight" && checks->count() > 0) {
-      throw std::invalid_argument("--checks is an option of make panel, not of make headlight");
+  make->callback([m, beam, focus, checks, leds, die, &exit_code] {
+    for (const auto& [option, kinds] :
+         {std::pair{beam, "headlight"}, std::pair{focus, "headlight led"}, std::pair{checks, "panel"},
+          std::pair{leds, "led"}, std::pair{die, "led"}}) {
+      if (option->count() > 0 && std::string(kinds).find(m->kind) == std::string::npos) {
+        throw std::invalid_argument(option->get_name() + " is an option of make " + kinds + ", not of make " + m->kind);
+      }
     }
     check_lfl_output(m->output);
+    const float f_focus = focus->count() > 0 ? m->focus : (m->kind == "led" ? 0.12f : 0.5f);
     const render::LightField f =
-        m->kind == "panel" ? render::make_panel_luminaire(m->resolution, m->grid, m->radiance, m->checks)
-                           : render::make_headlight_luminaire(m->resolution, m->grid, m->radiance, m->beam, m->focus);
+        m->kind == "panel"       ? render::make_panel_luminaire(m->resolution, m->grid, m->radiance, m->checks)
+        : m->kind == "headlight" ? render::make_headlight_luminaire(m->resolution, m->grid, m->radiance, m->beam, f_focus)
+                                 : render::make_led_luminaire(m->resolution, m->grid, m->radiance, m->leds, m->die, f_focus);
     render::save_light_field(f, m->output);
     std::cout << "wrote " << m->output << " (" << m->kind << ", " << f.image_count() << " images of " << f.width
               << " x " << f.height << ", " << fs::file_size(m->output) << " bytes)\n";

@@ -138,6 +138,42 @@ LightField make_headlight_luminaire(uint32_t resolution, uint32_t grid, float ra
   return f;
 }
 
+LightField make_led_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t leds, float die,
+                              float focus) {
+  if (!(radiance > 0.0f) || !std::isfinite(radiance)) throw std::invalid_argument("luminaire: the radiance must be > 0");
+  if (!(die > 0.0f) || !(focus > 0.0f)) throw std::invalid_argument("luminaire: the die width and focus must be > 0");
+  if (leds < 1 || leds > 8) throw std::invalid_argument("luminaire: 1 to 8 dies across, not " + std::to_string(leds));
+  LightField f = blank_field(resolution, grid,
+                             "led: " + std::to_string(leds) + "x" + std::to_string(leds) + " dies of " +
+                                 std::to_string(die) + ", foci " + std::to_string(focus) + " m ahead");
+  const float sigma = die * f.extent.x;
+  for (uint32_t m = 0; m < f.image_count(); ++m) {
+    const glm::vec2 c = f.basis_centre(m);
+    for (uint32_t k = 0; k < leds * leds; ++k) {
+      // Die k's focus lies beside the axis, the dies' foci 0.6 extents apart:
+      // together they light a pattern of spots ahead.
+      const glm::vec2 g = (glm::vec2(float(k % leds), float(k / leds)) - 0.5f * float(leds - 1)) * 0.6f * f.extent.x;
+      const glm::vec2 spot = c + (g - c) * (f.delta / (f.delta + focus));
+      // Cool white dies, a little warmer towards the array's edge.
+      const float warm = float(k % leds) / float(std::max(leds - 1, 1u));
+      const glm::vec3 tint(0.9f + 0.1f * warm, 0.95f, 1.0f - 0.15f * warm);
+      for (uint32_t y = 0; y < resolution; ++y) {
+        for (uint32_t x = 0; x < resolution; ++x) {
+          const glm::vec2 s = (glm::vec2(float(x), float(y)) + 0.5f) / float(resolution) * f.extent - 0.5f * f.extent;
+          const float r2 = glm::dot(s - spot, s - spot) / (sigma * sigma);
+          if (r2 > 30.0f) continue;
+          const float v = radiance * std::exp(-0.5f * r2);
+          float* t = &f.images[m][3 * (size_t(y) * resolution + x)];
+          t[0] += v * tint.x;
+          t[1] += v * tint.y;
+          t[2] += v * tint.z;
+        }
+      }
+    }
+  }
+  return f;
+}
+
 double light_field_flux(const LightField& field, uint32_t samples_per_texel) {
   // dPhi = L cos^2(theta) dA_u dA_s / r^2 = L cos^4(theta) / delta^2 dA_u dA_s.
   const uint32_t k = std::max(samples_per_texel, 1u);

@@ -104,8 +104,9 @@ std::vector<uint8_t> encode_light_field(const LightField& field);
 // Procedural emitters whose light field is known in closed form.
 // A textured panel: plane S is a Lambertian emitter of radiance
 // `radiance` x a checker texture of `checks` x `checks` squares alternating
-// between 1 and 0.25 (every image the same: L(u -> s) = C(s) sum_m Phi_m(u),
-// constant in u where the basis is a partition of unity).
+// between (1, 0.95, 0.85) and (0.25, 0.3, 0.4) (every image the same:
+// L(u -> s) = C(s) sum_m Phi_m(u), constant in u where the basis is a
+// partition of unity).
 LightField make_panel_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t checks = 4);
 // A headlight-like emitter: a bright reflector spot whose beam is narrow and
 // aimed: image m holds a Gaussian spot of width `beam` (in units of S's
@@ -114,6 +115,14 @@ LightField make_panel_luminaire(uint32_t resolution, uint32_t grid, float radian
 // hot spot ahead and each position on U lights a different part of S.
 LightField make_headlight_luminaire(uint32_t resolution, uint32_t grid, float radiance, float beam = 0.08f,
                                     float focus = 0.5f);
+
+// An LED headlight: a leds x leds array of small dies whose beams converge
+// to foci spread across the road `focus` ahead: image m holds one sharp spot
+// of width `die` (in units of S's extent) per die, where the ray from basis
+// centre m to that die's focus crosses S. Its images are mostly dark, so
+// that where the samples of S go matters (the restricted CDFs' case).
+LightField make_led_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t leds = 3,
+                              float die = 0.015f, float focus = 0.12f);
 
 // Reads an IES TM-25 ray file and bins its rays into a light field of
 // grid x grid basis functions and resolution x resolution images (flux
