@@ -3,7 +3,10 @@
 // source is named again (mesh file or --scene, with the same --colour and
 // --roughness as svo voxelize); --octree only supplies what svo render took
 // from the file: the view presets, the micro-BRDF roughness it was built
-// with and the centre the point-light defaults refer to.
+// with and the centre the point-light defaults refer to (and the domain the
+// luminaires' default placement refers to; without --octree, the source's
+// bounds).
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -29,6 +32,8 @@ struct ReferenceArgs {
   std::string octree;
   ViewOptions view;
   LightingOptions lighting;
+  LuminaireArgs luminaires;
+  uint32_t luminaire_quadrature = 1;
   uint32_t spp = 64;
   uint64_t seed = 1;
   bool json = false;
@@ -41,7 +46,8 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       "reference",
       "Ground truth: ray trace the source geometry (procedural scenes by sphere tracing their distance functions, "
       "meshes with Embree) with N stratified samples over each pixel's cone footprint, the micro-BRDF alone, and "
-      "the lights, shadows and camera of svo render");
+      "the lights, shadows and camera of svo render; light-field luminaires (--luminaire) by dense quadrature "
+      "with exact shadow rays");
   auto a = std::make_shared<ReferenceArgs>();
   add_source_options(*cmd, a->source);
   cmd->add_option("--octree", a->octree,
@@ -71,6 +77,17 @@ void add_reference_command(CLI::App& app, int& exit_code) {
   add_camera_options(*cmd, a->view);
   add_light_options(*cmd, a->view);
   add_lighting_options(*cmd, a->lighting);
+  add_luminaire_options(*cmd, a->luminaires);
+  cmd->add_option("--luminaire-quadrature", a->luminaire_quadrature,
+                  "K: each hit is lit by the luminaires through dense quadrature of the light-field integral, K x K "
+                  "points per texel of the emitting plane (of the region each basis function lets reach the hit), "
+                  "each with an exact shadow ray; the luminaires replace the lights unless --env is given, as in "
+                  "svo render. The sampling options (--sampler, --luminaire-spp, --kmax, --luminaire-visibility, "
+                  "--search, --search-depth, --sequence) are accepted so that svo render's words can be given, and "
+                  "ignored")
+      ->default_val(1)
+      ->check(CLI::Range(1u, 8u))
+      ->group("Luminaires");
 
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked before the source is read.
@@ -81,6 +98,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
                                   " needs --octree FILE.svo (the presets come from an octree's domain), or give "
                                   "--camera or --camera-file");
     }
+    check_luminaire_args(a->luminaires);
     render::image_format(a->output);
     render::check_writable_output(a->output);
 
@@ -109,6 +127,17 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     settings.render.shadows = a->view.shadows;
     settings.render.lights = make_lights(a->view, centre);
     apply_lighting(a->lighting, settings.render);
+    // The luminaires about the octree's domain, else the source's bounds.
+    if (tree) {
+      apply_luminaires(a->luminaires, &*tree, settings.render);
+    } else {
+      const glm::vec3 extent = bounds.hi - bounds.lo;
+      apply_luminaires(a->luminaires, centre, std::max({extent.x, extent.y, extent.z, 1e-6f}), settings.render);
+    }
+    // As svo render: the luminaires (and the ambient term) light the frame
+    // alone, unless an environment makes it forward shade with its lights.
+    if (!settings.render.luminaire.luminaires.empty() && a->lighting.env.empty()) settings.render.lights.clear();
+    settings.luminaire_quadrature = a->luminaire_quadrature;
     settings.spp = a->spp;
     settings.seed = a->seed;
     tree.reset();  // only its view and roughness were needed
@@ -136,12 +165,22 @@ void add_reference_command(CLI::App& app, int& exit_code) {
                          {"sigma_rho2", json_float(geometry->sigma_rho2())},
                          {"shadows", settings.render.shadows},
                          {"lights", lights_json(settings.render.lights)},
+                         {"luminaires", settings.render.luminaire.luminaires.empty()
+                                            ? nlohmann::json(nullptr)
+                                            : nlohmann::json{{"files", a->luminaires.files},
+                                                             {"quadrature", settings.luminaire_quadrature}}},
                          {"camera", camera_json(settings.render.camera)}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(1) << source << " -> " << a->output << ": " << frame.width << "x"
                 << frame.height << ", " << settings.spp << " spp, view " << view_name(a->view) << ", " << seconds
-                << " s, " << frame.covered_pixels << " covered pixels\n";
+                << " s, " << frame.covered_pixels << " covered pixels";
+      const size_t lums = settings.render.luminaire.luminaires.size();
+      if (lums > 0) {
+        std::cout << ", " << lums << (lums == 1 ? " luminaire" : " luminaires") << " (quadrature "
+                  << settings.luminaire_quadrature << "x" << settings.luminaire_quadrature << " per texel)";
+      }
+      std::cout << "\n";
     }
     exit_code = 0;
   });

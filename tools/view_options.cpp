@@ -233,6 +233,12 @@ void check_luminaire_args(const LuminaireArgs& o) {
 }
 
 void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render::RenderSettings& settings) {
+  const float size = tree ? tree->size : 1.0f;
+  const glm::vec3 centre = tree ? tree->origin + glm::vec3(0.5f * size) : glm::vec3(0.0f);
+  apply_luminaires(o, centre, size, settings);
+}
+
+void apply_luminaires(const LuminaireArgs& o, glm::vec3 centre, float size, render::RenderSettings& settings) {
   check_luminaire_args(o);
   render::LuminaireOptions& l = settings.luminaire;
   l.sampler = render::parse_luminaire_sampler(o.sampler);
@@ -244,8 +250,6 @@ void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render
   l.search_depth = o.depth;
   l.seed = settings.shading.seed;
   l.luminaires.clear();
-  const float size = tree ? tree->size : 1.0f;
-  const glm::vec3 centre = tree ? tree->origin + glm::vec3(0.5f * size) : glm::vec3(0.0f);
   for (size_t i = 0; i < o.files.size(); ++i) {
     render::PlacedLuminaire p;
     p.field = std::make_shared<const render::LightField>(render::load_light_field(o.files[i]));

@@ -93,6 +93,9 @@ void check_luminaire_args(const LuminaireArgs& o);
 // centre at 1.5 domain sizes, aimed at the centre.
 // @throw std::runtime_error for a file that does not load
 void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render::RenderSettings& settings);
+// The same about a domain of centre `centre` and size `size` (svo reference
+// without an octree: the source's bounds).
+void apply_luminaires(const LuminaireArgs& o, glm::vec3 centre, float size, render::RenderSettings& settings);
 
 // Whether an environment or a material is asked for.
 bool uses_lighting(const LightingOptions& o);

@@ -15,6 +15,7 @@
 
 #include "common/shared_math.h"
 #include "svo/render/camera.h"
+#include "svo/render/luminaire.h"
 #include "svo/render/shading.h"
 
 namespace svo::math {
@@ -219,6 +220,126 @@ glm::dvec3 shade(const Geometry& geometry, const Setup& c, const SurfaceHit& hit
   return radiance;
 }
 
+// A placed luminaire in scene units (render::luminaire_frame), for the
+// quadrature of its light-field integral.
+struct LumSetup {
+  const render::LightField* field = nullptr;
+  glm::dvec3 centre{0}, x{0}, y{0}, z{0};  // plane S's centre and axes; z away from U
+  double delta = 0, spacing = 0;           // U to S, the basis grid's spacing
+  glm::dvec2 extent{0};                    // S across
+  glm::dvec2 u_lo{0}, u_hi{0};             // the union of the basis supports on U
+  double texel_area = 0;
+  int32_t cells = 3;                       // the basis support in cells
+};
+
+std::vector<LumSetup> make_luminaires(const ReferenceSettings& settings) {
+  const render::LuminaireOptions& o = settings.render.luminaire;
+  if (o.luminaires.size() > render::LuminaireOptions::kMaxLuminaires) {
+    throw std::invalid_argument("reference: at most " + std::to_string(render::LuminaireOptions::kMaxLuminaires) +
+                                " luminaires, got " + std::to_string(o.luminaires.size()));
+  }
+  if (!o.luminaires.empty() && settings.luminaire_quadrature == 0) {
+    throw std::invalid_argument("reference: the luminaire quadrature must be at least 1 point per texel side");
+  }
+  std::vector<LumSetup> out;
+  for (size_t i = 0; i < o.luminaires.size(); ++i) {
+    const render::PlacedLuminaire& p = o.luminaires[i];
+    if (!p.field) throw std::invalid_argument("reference: luminaire " + std::to_string(i + 1) + " has no light field");
+    const render::LightField& f = *p.field;
+    const render::LuminaireFrame frame = render::luminaire_frame(f, p.placement);
+    LumSetup l;
+    l.field = &f;
+    l.centre = glm::dvec3(frame.centre);
+    l.x = glm::dvec3(frame.x);
+    l.y = glm::dvec3(frame.y);
+    l.z = glm::dvec3(frame.z);
+    const double scale = frame.scale;
+    l.delta = double(f.delta) * scale;
+    l.spacing = double(f.spacing) * scale;
+    l.extent = glm::dvec2(f.extent) * scale;
+    l.texel_area = l.extent.x * l.extent.y / (double(f.width) * double(f.height));
+    l.cells = int32_t(render::luminaire_basis_cells(f.basis));
+    const double half = 0.5 * l.cells * l.spacing;
+    l.u_lo = glm::dvec2(f.basis_centre(0)) * scale - half;
+    l.u_hi = glm::dvec2(f.basis_centre(f.image_count() - 1)) * scale + half;
+    out.push_back(l);
+  }
+  return out;
+}
+
+// The light of luminaire `lum` that the exact surface point `hit` reflects
+// along `view` (the material `mat` tinted by `tint`, `f` the tangent frame,
+// `v` the view in it): the dense quadrature of reference.h, k^2 points per
+// texel, one exact shadow ray per point where the rest is not 0.
+glm::dvec3 shade_luminaire(const Geometry& geometry, svo::math::ReferenceLighting& lit, const LumSetup& lum,
+                           uint32_t k, const SurfaceHit& hit, const svo::math::SvoMaterial& mat,
+                           const svo::math::SvoFrame& f, glm::vec3 v) {
+  const render::LightField& field = *lum.field;
+  const glm::dvec3 d = hit.position - lum.centre;
+  const glm::dvec3 pl(glm::dot(d, lum.x), glm::dot(d, lum.y), glm::dot(d, lum.z));
+  if (!(pl.z > 1.0e-5 * lum.delta)) return glm::dvec3(0);  // behind S (or on it): nothing
+  const glm::dvec2 p2(pl);
+  const double to_s = pl.z / (pl.z + lum.delta), to_u = (pl.z + lum.delta) / pl.z;
+  // The box of S that the supports reach from p (Eq. 7, over all images), in texels.
+  const glm::dvec2 res(field.width, field.height);
+  const glm::dvec2 t_lo = ((p2 + (lum.u_lo - p2) * to_s) / lum.extent + 0.5) * res;
+  const glm::dvec2 t_hi = ((p2 + (lum.u_hi - p2) * to_s) / lum.extent + 0.5) * res;
+  const int64_t x0 = std::max<int64_t>(0, int64_t(std::floor(t_lo.x)));
+  const int64_t y0 = std::max<int64_t>(0, int64_t(std::floor(t_lo.y)));
+  const int64_t x1 = std::min<int64_t>(field.width, int64_t(std::ceil(t_hi.x)));
+  const int64_t y1 = std::min<int64_t>(field.height, int64_t(std::ceil(t_hi.y)));
+  if (x0 >= x1 || y0 >= y1) return glm::dvec3(0);
+  const glm::dvec3 origin = hit.position + geometry.shadow_offset() * glm::dvec3(hit.normal);
+  const glm::vec3 n = hit.normal, tint = hit.colour;
+  const int32_t gw = int32_t(field.grid_w), gh = int32_t(field.grid_h);
+  const double half_cells = 0.5 * lum.cells;
+  const glm::dvec2 grid_half(0.5 * (gw - 1), 0.5 * (gh - 1));
+  glm::dvec3 sum(0);
+  for (int64_t ty = y0; ty < y1; ++ty) {
+    for (int64_t tx = x0; tx < x1; ++tx) {
+      const size_t texel = 3 * (size_t(ty) * field.width + size_t(tx));
+      for (uint32_t j = 0; j < k; ++j) {
+        for (uint32_t i = 0; i < k; ++i) {
+          const glm::dvec2 t(double(tx) + (i + 0.5) / k, double(ty) + (j + 0.5) / k);
+          const glm::dvec2 s = (t / res - 0.5) * lum.extent;
+          // u on U, in grid cells from basis (0, 0); the images whose support holds it.
+          const glm::dvec2 g = (p2 + (s - p2) * to_u) / lum.spacing + grid_half;
+          const int32_t i0 = std::max(0, int32_t(std::ceil(g.x - half_cells)));
+          const int32_t i1 = std::min(gw - 1, int32_t(std::floor(g.x + half_cells)));
+          const int32_t j0 = std::max(0, int32_t(std::ceil(g.y - half_cells)));
+          const int32_t j1 = std::min(gh - 1, int32_t(std::floor(g.y + half_cells)));
+          glm::dvec3 c(0);
+          for (int32_t b = j0; b <= j1; ++b) {
+            const float phi_y = render::luminaire_basis_phi(field.basis, float(g.y - b));
+            if (!(phi_y > 0.0f)) continue;
+            for (int32_t a = i0; a <= i1; ++a) {
+              const float phi = phi_y * render::luminaire_basis_phi(field.basis, float(g.x - a));
+              if (!(phi > 0.0f)) continue;
+              const float* rgb = &field.images[size_t(b) * gw + a][texel];
+              c += double(phi) * glm::dvec3(rgb[0], rgb[1], rgb[2]);
+            }
+          }
+          if (!(c.x + c.y + c.z > 0)) continue;
+          const glm::dvec3 q = lum.centre + s.x * lum.x + s.y * lum.y;
+          const glm::dvec3 to = q - hit.position;
+          const double r = glm::length(to);
+          if (!(r > 0)) continue;
+          const glm::vec3 l(to / r);
+          const glm::vec3 ll(glm::dot(l, f.t), glm::dot(l, f.b), glm::dot(l, n));
+          if (!(ll.z > 0.0f)) continue;
+          const glm::vec3 fr = lit.svo_material_brdf(mat, tint, v, ll) * ll.z;
+          if (!(fr.x + fr.y + fr.z > 0.0f)) continue;
+          const glm::dvec3 ray = q - origin;
+          const double dist = glm::length(ray);
+          if (dist > 0 && geometry.occluded(origin, ray / dist, 0.0, dist)) continue;
+          sum += c * glm::dvec3(fr) * (pl.z / (r * r * r));
+        }
+      }
+    }
+  }
+  return sum * (lum.texel_area / (double(k) * k));
+}
+
 double power_heuristic(double a, double b) { return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0.0; }
 
 // One sample of the environment lighting the exact surface point `hit`
@@ -261,6 +382,8 @@ glm::dvec3 shade_environment(const Geometry& geometry, svo::math::ReferenceLight
 render::Frame render_reference(const Geometry& geometry, const ReferenceSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
   const Setup c = make_setup(geometry, settings);
+  const std::vector<LumSetup> luminaires = make_luminaires(settings);
+  const uint32_t quadrature = settings.luminaire_quadrature;
   // An environment or a material: shaded with the forward pass's lighting code.
   render::ShadingOptions so = settings.render.shading;
   // Without --material, the source's own materials, as the octree carries them.
@@ -268,9 +391,12 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
     so.scene_materials = render::parse_scene_materials(geometry.materials(), "the scene");
   }
   const bool lighting = so.environment || so.material || !so.scene_materials.empty();
+  // Luminaires shade with the materials' code too (the built-in material
+  // when there is no other, as the luminaire pass).
   const render::ShadingTables tables =
-      lighting ? render::build_shading_tables(so, render::builtin_material(c.specular, geometry.sigma_rho2()), false)
-               : render::ShadingTables{};
+      lighting || !luminaires.empty()
+          ? render::build_shading_tables(so, render::builtin_material(c.specular, geometry.sigma_rho2()), false)
+          : render::ShadingTables{};
   // Its functions only read (non-const members: the GLSL is included in the struct).
   svo::math::ReferenceLighting lit{{tables.params, tables.floats.data()}};
   const bool environment = bool(so.environment);
@@ -319,6 +445,15 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
           ++covered;
           for (size_t l = 0; l < shadow.size() && c.shadows; ++l) shadow_of_sample[l] = shadow[l][i];
           sum += shade(geometry, c, *hit, -dir, shadow_of_sample.data(), lighting ? &lit : nullptr);
+          if (!luminaires.empty()) {
+            const svo::math::SvoMaterial mat = lit.svo_scene_material(hit->material);
+            const svo::math::SvoFrame tf = svo::math::svo_tangent_frame(hit->normal);
+            const glm::vec3 vw(-dir);
+            const glm::vec3 vl(glm::dot(vw, tf.t), glm::dot(vw, tf.b), glm::dot(vw, hit->normal));
+            for (const LumSetup& lum : luminaires) {
+              sum += shade_luminaire(geometry, lit, lum, quadrature, *hit, mat, tf, vl);
+            }
+          }
           if (environment) {
             // The forward pass's sequence (dimensions 2-6), another seed.
             const uint32_t px = uint32_t(index), sd = uint32_t(settings.seed) ^ 0x5EEDu;

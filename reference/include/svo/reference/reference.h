@@ -24,6 +24,11 @@ struct ReferenceSettings {
   // concentric mapping (Shirley & Chiu 1997).
   uint32_t spp = 64;
   uint64_t seed = 1;  // the same seed gives the same image, whatever the threads
+  // Light-field luminaires (render.luminaire.luminaires; the sampling
+  // options there are ignored): each hit of the surface is lit by dense
+  // quadrature of the light-field integral, luminaire_quadrature^2 points
+  // per texel of plane S (their centres), >= 1; see render_reference.
+  uint32_t luminaire_quadrature = 1;
   // Called from worker threads with the fraction of rows done; may be empty.
   std::function<void(double)> progress;
 };
@@ -54,9 +59,26 @@ struct ReferenceSettings {
 // permutation. A sample that meets nothing takes the background; the pixel
 // is the mean of its samples, alpha the fraction that met the surface.
 //
+// Light-field luminaires (render.luminaire, render/include/svo/render/
+// luminaire.h) add to that, for each hit point p at height Delta > 0 above
+// plane S (nothing behind S), the quadrature of
+//   sum over texels t of S, points s of t:
+//     L(u -> s) f(v, l) (n . l) V(p, s) Delta / r^3 (texel area / k^2)
+// with L(u -> s) = sum_m C_m(s) Phi_m(u) (u where the line from p through s
+// crosses U; only the texels of the box of S that the basis functions'
+// supports reach from p, Eq. 7), r = |s - p|, l = (s - p) / r, f the
+// material's BRDF (svo_material_brdf of shaders/common, as the environment
+// path) and V one exact shadow ray from p (offset as the lights' shadow
+// rays are) to s, traced only where the rest is not 0: the same integral as
+// svo_luminaire_quadrature (shaders/common/luminaire.glsl) with exact
+// visibility. The lights still shine; svo reference drops them with
+// luminaires, as svo render does.
+//
 // @throw std::invalid_argument "<what>: <why>" for bad settings (size 0,
 //        spp 0, more than render::kMaxLights lights, a light that is not
-//        finite, a camera that render::validate_camera refuses).
+//        finite, a camera that render::validate_camera refuses, a
+//        luminaire without a field or with at == aim, more than
+//        LuminaireOptions::kMaxLuminaires luminaires, quadrature 0).
 render::Frame render_reference(const Geometry& geometry, const ReferenceSettings& settings);
 
 }  // namespace svo::reference
