@@ -389,3 +389,60 @@ TEST_F(LuminaireOnBothHosts, BothHostsAgree) {
 
 }  // namespace
 }  // namespace svo::render
+
+namespace svo::render {
+namespace {
+
+// Visibility cones: a luminaire straight above the middle sphere of
+// material-spheres shadows the floor beneath it. Per-sample cones find the
+// umbra; one cone per basis cell must find the same umbra and leave the
+// open floor lit.
+TEST(LuminaireVisibility, CellConesFindTheUmbraPerSampleConesFind) {
+  auto scene = voxelizer::make_scene("material-spheres");
+  const octree::Octree tree = test::voxelize(*scene, 64);
+  NativeRenderer renderer(tree);
+  renderer.add_pass(std::make_unique<LuminairePass>());
+  RenderSettings s;
+  s.width = 48;
+  s.height = 40;
+  s.camera = test::looking_at_origin({0.0f, 1.4f, 1.9f}, 50.0f);
+  s.lights.clear();
+  s.ambient = glm::vec3(0);
+  s.background = glm::vec3(0);
+  Material m;
+  m.kind = BrdfKind::Lambert;
+  m.diffuse = glm::vec3(0.8f);
+  s.shading.material = std::make_shared<const Material>(m);
+  s.luminaire.luminaires.push_back(
+      {std::make_shared<const LightField>(make_panel_luminaire(16, 3, 50.0f)), {{0.0f, 1.3f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.3f}});
+  s.luminaire.spp = 64;
+  auto with = [&](LuminaireVisibility v) {
+    RenderSettings t = s;
+    t.luminaire.visibility = v;
+    return renderer.render(t);
+  };
+  const Frame none = with(LuminaireVisibility::None);
+  const Frame cells = with(LuminaireVisibility::Cells);
+  const Frame samples = with(LuminaireVisibility::Samples);
+  uint32_t umbra = 0, umbra_agree = 0, open = 0, open_agree = 0;
+  for (size_t i = 0; i < none.colour.size(); ++i) {
+    const float n = none.colour[i].g;
+    if (!(n > 0.0f) || none.colour[i].a < 0.99f) continue;
+    if (samples.colour[i].g < 0.3f * n) {
+      ++umbra;
+      umbra_agree += cells.colour[i].g < 0.5f * n ? 1 : 0;
+    } else if (samples.colour[i].g > 0.95f * n) {
+      ++open;
+      open_agree += cells.colour[i].g > 0.8f * n ? 1 : 0;
+    }
+  }
+  std::printf("umbra %u pixels (cells agree on %u), open %u pixels (cells agree on %u)\n", umbra, umbra_agree, open,
+              open_agree);
+  EXPECT_GE(umbra, 20u) << "the sphere must shadow the floor";
+  EXPECT_GE(umbra_agree, umbra * 8 / 10);
+  EXPECT_GE(open, 200u);
+  EXPECT_GE(open_agree, open * 9 / 10);
+}
+
+}  // namespace
+}  // namespace svo::render
