@@ -85,7 +85,8 @@ double mean_lab_error(const render::Frame& image, const render::Frame& reference
     return glm::dvec3(1.0 - std::exp(-c.r / avg), 1.0 - std::exp(-c.g / avg), 1.0 - std::exp(-c.b / avg));
   };
   double sum = 0;
-  for (size_t i = 0; i < image.colour.size(); ++i) sum += glm::length(lab(tone(image.colour[i])) - lab(tone(reference.colour[i])));
+  for (size_t i = 0; i < image.colour.size(); ++i)
+    sum += glm::length(lab(tone(image.colour[i])) - lab(tone(reference.colour[i])));
   return sum / double(image.colour.size());
 }
 
@@ -216,7 +217,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   std::ostringstream md;
   md << "# svo bench luminaire\n\nScene " << a.scene << " at " << a.resolution << "^3, " << a.size << "x" << a.size
      << ", luminaire: " << field->source << " (" << field->image_count() << " images of " << field->width << "x"
-     << field->height << "), material " << material->name << ". Ground truth: quadrature of the same G-buffer, " << a.quadrature << "^2 points per texel, "
+     << field->height << "), material " << material->name << ". Ground truth: quadrature of the same G-buffer, "
+     << a.quadrature << "^2 points per texel, "
      << "no visibility. Machine: " << results["machine"].get<std::string>() << ".\n\n";
   auto record = [&](const std::string& part, const std::string& name, uint32_t spp, const render::Frame& f,
                     const render::Frame& ref) {
@@ -245,7 +247,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
       };
       const std::string part = "equal_spp_" + tag;
       bar.update("part 1: samplers at equal samples, " + tag, 0.0);
-      md << "## 1. Restricted, uniform and global sampling (Figs. 11, 12): " << f1->source << "\n\n| sampler | spp | "
+      md << "## 1. Restricted, uniform and global sampling (Figs. 11, 12): " << f1->source
+         << "\n\n| sampler | spp | "
             "mean Lab error | relMSE | luminaire pass ms |\n|---|---|---|---|---|\n";
       std::vector<render::Frame> frames;
       std::vector<double> errors;
@@ -254,8 +257,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
         frames.push_back(sample(sampler, a.spp));
         errors.push_back(record(part, render::luminaire_sampler_name(sampler), a.spp, frames.back(), truth1));
         md << "| " << render::luminaire_sampler_name(sampler) << " | " << a.spp << " | " << bench::fmt(errors.back(), 3)
-           << " | " << sci(relmse(frames.back(), truth1)) << " | "
-           << bench::fmt(pass_ms(frames.back(), "luminaire"), 0) << " |\n";
+           << " | " << sci(relmse(frames.back(), truth1)) << " | " << bench::fmt(pass_ms(frames.back(), "luminaire"), 0)
+           << " |\n";
       }
       const double restricted_error = errors[0];
       md << "\nLab error ratio at " << a.spp << " spp: uniform / restricted " << bench::fmt(errors[1] / errors[0], 2)
@@ -277,8 +280,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
         if (eq.spp > 0) {
           md << bench::fmt(eq.spp, 0) << " spp: " << bench::fmt(eq.spp / a.spp, 1) << "x the samples";
         } else {
-          md << "more than " << cap << " spp (error " << bench::fmt(eq.sweep.back().second, 3)
-             << " there): more than " << bench::fmt(double(cap) / a.spp, 0) << "x the samples";
+          md << "more than " << cap << " spp (error " << bench::fmt(eq.sweep.back().second, 3) << " there): more than "
+             << bench::fmt(double(cap) / a.spp, 0) << "x the samples";
         }
         md << " (sweep:";
         for (const auto& [k, e] : eq.sweep) md << " " << k << " spp " << bench::fmt(e, 3) << ";";
@@ -316,7 +319,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
 
   if (wants(3)) {
     bar.update("part 3: Halton against random", 0.0);
-    md << "## 3. Halton against independent random numbers (Fig. 8)\n\n| spp | Halton Lab | random Lab |\n|---|---|---|\n";
+    md << "## 3. Halton against independent random numbers (Fig. 8)\n\n| spp | Halton Lab | random Lab "
+          "|\n|---|---|---|\n";
     for (uint32_t spp : {16u, 64u, 256u, 1024u}) {
       double e[2];
       for (auto seq : {render::LuminaireSequence::Halton, render::LuminaireSequence::Random}) {
@@ -344,8 +348,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
           s.luminaire.search = search;
           s.luminaire.search_depth = depth;
         });
-        e[size_t(search)] = record("search_depth_" + std::to_string(depth), render::luminaire_search_name(search), 200,
-                                   f, truth);
+        e[size_t(search)] =
+            record("search_depth_" + std::to_string(depth), render::luminaire_search_name(search), 200, f, truth);
         ms[size_t(search)] = pass_ms(f, "luminaire");
       }
       md << "| " << (depth ? std::to_string(depth) : "exact") << " | " << bench::fmt(e[0], 3) << " | "
@@ -386,8 +390,9 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   }
 
   if (wants(6)) {
-    md << "## 6. Frame time at 200 spp (Fig. 10), " << a.timing_size[0] << "x" << a.timing_size[1]
-       << ", median of " << a.repeats << "\n\n| host | trace ms | luminaire pass ms (cells) | of which A_m and "
+    md << "## 6. Frame time at 200 spp (Fig. 10), " << a.timing_size[0] << "x" << a.timing_size[1] << ", median of "
+       << a.repeats
+       << "\n\n| host | trace ms | luminaire pass ms (cells) | of which A_m and "
           "set-up (1 spp, no visibility) | sampling and shading (200 spp, no visibility) | visibility cones |\n"
           "|---|---|---|---|---|---|\n";
     for (const std::string& device : a.timing_devices) {

@@ -218,9 +218,8 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
                      ->check(CLI::Range(1u, 1024u))
                      ->group("Panel");
   make->callback([m, beam, focus, checks, leds, die, &exit_code] {
-    for (const auto& [option, kinds] :
-         {std::pair{beam, "headlight"}, std::pair{focus, "headlight led"}, std::pair{checks, "panel"},
-          std::pair{leds, "led"}, std::pair{die, "led"}}) {
+    for (const auto& [option, kinds] : {std::pair{beam, "headlight"}, std::pair{focus, "headlight led"},
+                                        std::pair{checks, "panel"}, std::pair{leds, "led"}, std::pair{die, "led"}}) {
       if (option->count() > 0 && std::string(kinds).find(m->kind) == std::string::npos) {
         throw std::invalid_argument(option->get_name() + " is an option of make " + kinds + ", not of make " + m->kind);
       }
@@ -228,9 +227,10 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
     check_lfl_output(m->output);
     const float f_focus = focus->count() > 0 ? m->focus : (m->kind == "led" ? 0.12f : 0.5f);
     const render::LightField f =
-        m->kind == "panel"       ? render::make_panel_luminaire(m->resolution, m->grid, m->radiance, m->checks)
-        : m->kind == "headlight" ? render::make_headlight_luminaire(m->resolution, m->grid, m->radiance, m->beam, f_focus)
-                                 : render::make_led_luminaire(m->resolution, m->grid, m->radiance, m->leds, m->die, f_focus);
+        m->kind == "panel" ? render::make_panel_luminaire(m->resolution, m->grid, m->radiance, m->checks)
+        : m->kind == "headlight"
+            ? render::make_headlight_luminaire(m->resolution, m->grid, m->radiance, m->beam, f_focus)
+            : render::make_led_luminaire(m->resolution, m->grid, m->radiance, m->leds, m->die, f_focus);
     render::save_light_field(f, m->output);
     std::cout << "wrote " << m->output << " (" << m->kind << ", " << f.image_count() << " images of " << f.width
               << " x " << f.height << ", " << fs::file_size(m->output) << " bytes)\n";

@@ -153,12 +153,13 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
       ->allow_extra_args(false)
       ->check(CLI::PositiveNumber)
       ->group("Luminaires");
-  cmd.add_option("--sampler", o.sampler,
-                 "How each point samples the luminaires: restricted (Lu et al.: the images' CDFs restricted to what "
-                 "each basis function lets reach the point, samples balanced by energy), uniform (the same regions, "
-                 "uniformly, the same samples per image), global (precomputed CDFs over whole images), box (restricted with "
-                 "the column marginal of the region's own rows, from the summed-area table: density exactly "
-                 "proportional to the image)")
+  cmd.add_option(
+         "--sampler", o.sampler,
+         "How each point samples the luminaires: restricted (Lu et al.: the images' CDFs restricted to what "
+         "each basis function lets reach the point, samples balanced by energy), uniform (the same regions, "
+         "uniformly, the same samples per image), global (precomputed CDFs over whole images), box (restricted with "
+         "the column marginal of the region's own rows, from the summed-area table: density exactly "
+         "proportional to the image)")
       ->capture_default_str()
       ->check(CLI::IsMember({"restricted", "uniform", "global", "box"}))
       ->group("Luminaires");
@@ -219,8 +220,9 @@ void check_luminaire_args(const LuminaireArgs& o) {
     throw std::invalid_argument("--luminaire: at most " + std::to_string(render::LuminaireOptions::kMaxLuminaires) +
                                 " luminaires");
   }
-  for (const auto& [count, name] : {std::pair{o.at.size(), "--luminaire-at"}, std::pair{o.aim.size(), "--luminaire-aim"},
-                                    std::pair{o.size.size(), "--luminaire-size"}}) {
+  for (const auto& [count, name] :
+       {std::pair{o.at.size(), "--luminaire-at"}, std::pair{o.aim.size(), "--luminaire-aim"},
+        std::pair{o.size.size(), "--luminaire-size"}}) {
     if (count == 0) continue;
     if (n == 0) throw std::invalid_argument(std::string(name) + " places a luminaire: give --luminaire FILE.lfl");
     if (count != 1 && count != n) {

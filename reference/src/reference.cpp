@@ -229,7 +229,7 @@ struct LumSetup {
   glm::dvec2 extent{0};                    // S across
   glm::dvec2 u_lo{0}, u_hi{0};             // the union of the basis supports on U
   double texel_area = 0;
-  int32_t cells = 3;                       // the basis support in cells
+  int32_t cells = 3;  // the basis support in cells
 };
 
 std::vector<LumSetup> make_luminaires(const ReferenceSettings& settings) {
@@ -271,9 +271,9 @@ std::vector<LumSetup> make_luminaires(const ReferenceSettings& settings) {
 // along `view` (the material `mat` tinted by `tint`, `f` the tangent frame,
 // `v` the view in it): the dense quadrature of reference.h, k^2 points per
 // texel, one exact shadow ray per point where the rest is not 0.
-glm::dvec3 shade_luminaire(const Geometry& geometry, svo::math::ReferenceLighting& lit, const LumSetup& lum,
-                           uint32_t k, const SurfaceHit& hit, const svo::math::SvoMaterial& mat,
-                           const svo::math::SvoFrame& f, glm::vec3 v) {
+glm::dvec3 shade_luminaire(const Geometry& geometry, svo::math::ReferenceLighting& lit, const LumSetup& lum, uint32_t k,
+                           const SurfaceHit& hit, const svo::math::SvoMaterial& mat, const svo::math::SvoFrame& f,
+                           glm::vec3 v) {
   const render::LightField& field = *lum.field;
   const glm::dvec3 d = hit.position - lum.centre;
   const glm::dvec3 pl(glm::dot(d, lum.x), glm::dot(d, lum.y), glm::dot(d, lum.z));

@@ -4,6 +4,7 @@
 // name nor destroys the file that was there. Internal to svo_render.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -17,5 +18,10 @@ namespace svo::render::detail {
 // @throw std::runtime_error "<path>: cannot write: <step>: <reason>" for the
 //        steps done here; exceptions of `write` pass through unchanged.
 void write_atomically(const std::string& path, const std::function<void(const std::string& temporary)>& write);
+
+// What a path that is not a regular file is, for messages: "a directory",
+// "a FIFO", "a character device", "a block device", "a socket", or "not a
+// regular file".
+std::string file_kind(std::filesystem::file_type type);
 
 }  // namespace svo::render::detail

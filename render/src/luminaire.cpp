@@ -92,10 +92,12 @@ LightField blank_field(uint32_t resolution, uint32_t grid, const std::string& so
 }  // namespace
 
 LightField make_panel_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t checks) {
-  if (!(radiance > 0.0f) || !std::isfinite(radiance)) throw std::invalid_argument("luminaire: the radiance must be > 0");
+  if (!(radiance > 0.0f) || !std::isfinite(radiance))
+    throw std::invalid_argument("luminaire: the radiance must be > 0");
   checks = std::max(checks, 1u);
-  LightField f = blank_field(resolution, grid, "panel: " + std::to_string(checks) + "x" + std::to_string(checks) +
-                                                  " checker, radiance " + std::to_string(radiance));
+  LightField f = blank_field(resolution, grid,
+                             "panel: " + std::to_string(checks) + "x" + std::to_string(checks) + " checker, radiance " +
+                                 std::to_string(radiance));
   for (uint32_t y = 0; y < resolution; ++y) {
     for (uint32_t x = 0; x < resolution; ++x) {
       const bool bright = ((x * checks / resolution) + (y * checks / resolution)) % 2 == 0;
@@ -112,7 +114,8 @@ LightField make_panel_luminaire(uint32_t resolution, uint32_t grid, float radian
 }
 
 LightField make_headlight_luminaire(uint32_t resolution, uint32_t grid, float radiance, float beam, float focus) {
-  if (!(radiance > 0.0f) || !std::isfinite(radiance)) throw std::invalid_argument("luminaire: the radiance must be > 0");
+  if (!(radiance > 0.0f) || !std::isfinite(radiance))
+    throw std::invalid_argument("luminaire: the radiance must be > 0");
   if (!(beam > 0.0f) || !(focus > 0.0f)) throw std::invalid_argument("luminaire: the beam width and focus must be > 0");
   LightField f = blank_field(resolution, grid,
                              "headlight: beam " + std::to_string(beam) + ", focus " + std::to_string(focus) + " m");
@@ -140,7 +143,8 @@ LightField make_headlight_luminaire(uint32_t resolution, uint32_t grid, float ra
 
 LightField make_led_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t leds, float die,
                               float focus) {
-  if (!(radiance > 0.0f) || !std::isfinite(radiance)) throw std::invalid_argument("luminaire: the radiance must be > 0");
+  if (!(radiance > 0.0f) || !std::isfinite(radiance))
+    throw std::invalid_argument("luminaire: the radiance must be > 0");
   if (!(die > 0.0f) || !(focus > 0.0f)) throw std::invalid_argument("luminaire: the die width and focus must be > 0");
   if (leds < 1 || leds > 8) throw std::invalid_argument("luminaire: 1 to 8 dies across, not " + std::to_string(leds));
   LightField f = blank_field(resolution, grid,
@@ -194,8 +198,8 @@ double light_field_flux(const LightField& field, uint32_t samples_per_texel) {
         double sum = 0.0;
         for (uint32_t sy = 0; sy < k; ++sy) {
           for (uint32_t sx = 0; sx < k; ++sx) {
-            const glm::dvec2 s = (glm::dvec2(x, y) + (glm::dvec2(sx, sy) + 0.5) / double(k)) * texel -
-                                 0.5 * glm::dvec2(field.extent);
+            const glm::dvec2 s =
+                (glm::dvec2(x, y) + (glm::dvec2(sx, sy) + 0.5) / double(k)) * texel - 0.5 * glm::dvec2(field.extent);
             for (uint32_t j = 0; j < nu; ++j) {
               for (uint32_t i = 0; i < nu; ++i) {
                 const glm::dvec2 u = glm::dvec2(lo) + (glm::dvec2(i, j) + 0.5) * du;

@@ -386,23 +386,8 @@ LightField load_light_field(const fs::path& path) {
   const fs::file_status status = fs::status(path, ec);
   if (status.type() == fs::file_type::not_found) fail(name, "no such file");
   if (ec) fail(name, "cannot inspect: " + ec.message());
-  auto kind = [](fs::file_type type) -> std::string {
-    switch (type) {
-      case fs::file_type::directory:
-        return "a directory";
-      case fs::file_type::fifo:
-        return "a FIFO";
-      case fs::file_type::character:
-        return "a character device";
-      case fs::file_type::block:
-        return "a block device";
-      case fs::file_type::socket:
-        return "a socket";
-      default:
-        return "not a regular file";
-    }
-  };
-  if (status.type() != fs::file_type::regular) fail(name, "is " + kind(status.type()) + ", expected a .lfl file");
+  if (status.type() != fs::file_type::regular)
+    fail(name, "is " + detail::file_kind(status.type()) + ", expected a .lfl file");
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) fail(name, std::string("cannot open: ") + std::strerror(errno));
   struct Closer {

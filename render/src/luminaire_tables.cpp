@@ -68,8 +68,7 @@ LuminaireFrame luminaire_frame(const LightField& field, const LuminairePlacement
   const glm::vec3 up = std::fabs(f.z.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
   f.x = glm::normalize(glm::cross(up, f.z));
   f.y = glm::cross(f.z, f.x);
-  f.scale = placement.size > 0.0f ? placement.size / std::max(field.extent.x, field.extent.y)
-                                  : field.metres_per_unit;
+  f.scale = placement.size > 0.0f ? placement.size / std::max(field.extent.x, field.extent.y) : field.metres_per_unit;
   return f;
 }
 
@@ -158,7 +157,8 @@ std::vector<float> build_luminaire_tables(const LuminaireOptions& options) {
         column[x] = sum;
         const double floor = lit ? kFloor * sum / lit : 0.0;
         double all_rows = 0.0;
-        for (uint32_t y = 0; y < h; ++y) all_rows += lum[size_t(y) * w + x] > 0.0 ? std::max(lum[size_t(y) * w + x], floor) : 0.0;
+        for (uint32_t y = 0; y < h; ++y)
+          all_rows += lum[size_t(y) * w + x] > 0.0 ? std::max(lum[size_t(y) * w + x], floor) : 0.0;
         float* c = cond + uint64_t(x) * (h + 1);
         double run = 0.0;
         c[0] = 0.0f;

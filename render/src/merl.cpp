@@ -50,23 +50,6 @@ std::string kind_of(const struct stat& st) {
   return "not a regular file";
 }
 
-std::string kind_of(fs::file_type type) {
-  switch (type) {
-    case fs::file_type::directory:
-      return "a directory";
-    case fs::file_type::fifo:
-      return "a FIFO";
-    case fs::file_type::character:
-      return "a character device";
-    case fs::file_type::block:
-      return "a block device";
-    case fs::file_type::socket:
-      return "a socket";
-    default:
-      return "not a regular file";
-  }
-}
-
 // Where sample k lies in the table, for messages.
 std::string sample_name(uint32_t k) {
   return "sample " + std::to_string(k) + " (theta_h " + std::to_string(k / (kMerlPhiD * kMerlThetaD)) + ", theta_d " +
@@ -127,7 +110,7 @@ MerlBrdf load_merl(const fs::path& path) {
   if (status.type() == fs::file_type::not_found) fail(path, "no such file");
   if (ec) fail(path, "cannot inspect: " + ec.message());
   if (status.type() != fs::file_type::regular)
-    fail(path, "is " + kind_of(status.type()) + ", expected a MERL .binary file");
+    fail(path, "is " + detail::file_kind(status.type()) + ", expected a MERL .binary file");
   Fd file{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
   if (file.fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno));
   // And again on what was opened (the path may have changed in between).

@@ -32,10 +32,9 @@
 //   [spectrum index] [additional items].
 #include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -135,11 +134,11 @@ class RayFile {
 struct Header {
   uint64_t rays = 0;
   uint64_t ray_start = 0;
-  uint32_t columns = 0;    // f32 per ray
-  uint32_t flux = 0;       // the column of the flux binned
+  uint32_t columns = 0;            // f32 per ray
+  uint32_t flux = 0;               // the column of the flux binned
   int32_t tri_x = -1, tri_z = -1;  // tristimulus X and Z columns (photometric colour)
   bool photometric = false;
-  std::string name;        // 4.7.3.1, printable ASCII only
+  std::string name;  // 4.7.3.1, printable ASCII only
 };
 
 Header read_header(const RayFile& file, const fs::path& path) {
@@ -182,8 +181,8 @@ Header read_header(const RayFile& file, const fs::path& path) {
   if (text_bytes < 0 || text_bytes > kMaxTextBytes || text_bytes % 4 != 0) {
     fail(path, "additional text block of " + std::to_string(text_bytes) + " bytes (a multiple of 4, at most 16 MiB)");
   }
-  static const char* kFlags[8] = {"position", "direction", "radiant flux", "wavelength",
-                                  "luminous flux", "Stokes", "tristimulus", "spectrum index"};
+  static const char* kFlags[8] = {"position",      "direction", "radiant flux", "wavelength",
+                                  "luminous flux", "Stokes",    "tristimulus",  "spectrum index"};
   bool flag[8];
   for (int k = 0; k < 8; ++k) {
     const int32_t v = i32_at(&h[256 + 4 * k]);
@@ -193,7 +192,8 @@ Header read_header(const RayFile& file, const fs::path& path) {
   if (!flag[0] || !flag[1]) fail(path, "the position and direction flags must be 1");
   if (!flag[2] && !flag[4]) fail(path, "neither the radiant nor the luminous flux flag is set");
   if (flag[6] && !flag[4]) fail(path, "the tristimulus flag needs the luminous flux flag");
-  if (flag[7] != (spectral == 4)) fail(path, "the spectrum index flag must be set exactly when the spectral identifier is 4");
+  if (flag[7] != (spectral == 4))
+    fail(path, "the spectrum index flag must be set exactly when the spectral identifier is 4");
 
   // 4.7.3.1, the light source's name: UTF-32LE, NUL-terminated.
   std::array<uint8_t, 4 * 64> name{};
@@ -237,8 +237,8 @@ Header read_header(const RayFile& file, const fs::path& path) {
   out.columns = columns_with(stokes);
   if (payload != out.rays * 4 * out.columns) {
     fail(path, "the file has " + std::to_string(size) + " bytes, but " + std::to_string(out.rays) + " rays of " +
-                   std::to_string(4 * out.columns) + " bytes after a header of " + std::to_string(at) +
-                   " bytes make " + std::to_string(at + out.rays * 4 * out.columns));
+                   std::to_string(4 * out.columns) + " bytes after a header of " + std::to_string(at) + " bytes make " +
+                   std::to_string(at + out.rays * 4 * out.columns));
   }
   out.photometric = flag[4];
   out.flux = out.photometric ? luminous : radiant;
@@ -541,9 +541,10 @@ LightField import_tm25(const std::filesystem::path& path, uint32_t grid, uint32_
 
   const auto percent = [&](double part) { return num(100.0 * part / total) + "%"; };
   std::string source = "tm25: " + (header.name.empty() ? std::string("?") : header.name.substr(0, 48)) + " (" +
-                       path.filename().string().substr(0, 64) + "), " + std::to_string(header.rays) + " rays, " + num(total) +
-                       (header.photometric ? " lm photometric" : " W radiometric") + "; lost: " + percent(backward) +
-                       " backward, " + percent(lost_s) + " outside S, " + percent(lost_u) + " outside U";
+                       path.filename().string().substr(0, 64) + "), " + std::to_string(header.rays) + " rays, " +
+                       num(total) + (header.photometric ? " lm photometric" : " W radiometric") +
+                       "; lost: " + percent(backward) + " backward, " + percent(lost_s) + " outside S, " +
+                       percent(lost_u) + " outside U";
   if (source.size() > 255) source.resize(255);
   for (char& c : source) {
     if (uint8_t(c) < 0x20 || uint8_t(c) >= 0x7f) c = '?';  // one line of ASCII

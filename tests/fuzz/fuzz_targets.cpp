@@ -1,9 +1,9 @@
 #include "fuzz_targets.h"
 
+#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 #include <xxhash.h>
 
-#include <OpenImageIO/imageio.h>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -137,7 +137,8 @@ int mesh_arrays(const uint8_t* data, size_t size) {
   }
   for (size_t f = 0; f < count; ++f) {
     for (int k = 0; k < 3; ++k) {
-      if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size()) broken("corner out of range");
+      if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size())
+        broken("corner out of range");
     }
     if (std::abs(glm::length(mesh.face_normals[f]) - 1.0f) > 1e-3f) broken("normal not unit");
     glm::vec3 c = mesh.colour(f, glm::dvec3(1.0 / 3));
@@ -154,7 +155,8 @@ int mesh_file(const uint8_t* data, size_t size) {
     voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file.path);
     for (size_t f = 0; f < mesh.triangles.size(); ++f) {
       for (int k = 0; k < 3; ++k) {
-        if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size()) broken("corner out of range");
+        if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size())
+          broken("corner out of range");
       }
       (void)mesh.colour(f, glm::dvec3(1.0 / 3));
     }
@@ -169,9 +171,15 @@ int camera(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
     switch (data[0] % 4) {
-      case 0: render::parse_camera_json(text, "fuzz.json"); break;
-      case 1: render::parse_camera(text); break;
-      case 2: render::parse_light(text, glm::vec3(0)); break;
+      case 0:
+        render::parse_camera_json(text, "fuzz.json");
+        break;
+      case 1:
+        render::parse_camera(text);
+        break;
+      case 2:
+        render::parse_light(text, glm::vec3(0));
+        break;
       default: {
         render::CameraPath path = render::parse_camera_path(text, "fuzz-path.json");
         if (path.keys.size() < 2 || path.frames < 2) broken("accepted path with fewer than 2 keys or frames");
@@ -266,7 +274,8 @@ int environment(const uint8_t* data, size_t size) {
   TempFile file(data + 1, size - 1, kExtensions[data[0] % 2]);
   try {
     const render::Environment env = render::load_environment(file.path);
-    if (env.rgb.size() != size_t(env.width) * env.height * 3) broken("accepted map whose texels disagree with its size");
+    if (env.rgb.size() != size_t(env.width) * env.height * 3)
+      broken("accepted map whose texels disagree with its size");
     // An accepted map must sample: finite directions and densities, > 0.
     render::ShadingOptions o;
     o.environment = std::make_shared<const render::Environment>(env);
@@ -383,8 +392,8 @@ int tm25(const uint8_t* data, size_t size) {
 }
 
 std::vector<std::string> target_names() {
-  return {"svo_load", "mesh_arrays", "mesh_file", "camera",   "texture",
-          "merl",     "environment", "material",  "scene_file", "luminaire", "tm25"};
+  return {"svo_load",    "mesh_arrays", "mesh_file",  "camera",    "texture", "merl",
+          "environment", "material",    "scene_file", "luminaire", "tm25"};
 }
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {

@@ -10,12 +10,12 @@
 
 #include "fuzz_targets.h"
 #include "octree/test_trees.h"
+#include "render/tm25_writer.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
 #include "svo/render/luminaire.h"
-#include "render/tm25_writer.h"
 
 namespace svo::fuzz {
 
@@ -64,7 +64,8 @@ std::string cube_text(const std::string& format) {
     s << "solid cube\n";
     for (auto& t : kTriangles) {
       s << "facet normal 0 0 0\nouter loop\n";
-      for (int k = 0; k < 3; ++k) s << "vertex " << kCorners[t[k]][0] << " " << kCorners[t[k]][1] << " " << kCorners[t[k]][2] << "\n";
+      for (int k = 0; k < 3; ++k)
+        s << "vertex " << kCorners[t[k]][0] << " " << kCorners[t[k]][1] << " " << kCorners[t[k]][2] << "\n";
       s << "endloop\nendfacet\n";
     }
     s << "endsolid cube\n";
@@ -134,7 +135,8 @@ int write_seeds(const fs::path& dir) {
   {
     fs::path d = target("mesh_file");
     const char* formats[] = {"obj", "off", "ply", "stl"};
-    for (uint8_t k = 0; k < 4; ++k) put(d / (std::string("cube_") + formats[k]), with_prefix({k}, cube_text(formats[k])));
+    for (uint8_t k = 0; k < 4; ++k)
+      put(d / (std::string("cube_") + formats[k]), with_prefix({k}, cube_text(formats[k])));
     count += 4;
   }
   // Cameras, lights, paths: the first byte picks the parser.

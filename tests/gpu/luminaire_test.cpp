@@ -4,6 +4,8 @@
 // density (chi-square), the searches, and on both hosts an unbiased
 // estimator for each sampler against dense quadrature, no light where no
 // image reaches, and the hosts' agreement.
+#include "svo/render/luminaire.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 
 #include "../render/test_scenes.h"
 #include "numerics/chi_square.h"
-#include "svo/render/luminaire.h"
 #include "svo/render/passes.h"
 #include "svo/render/renderer.h"
 
@@ -174,9 +175,10 @@ void check_restricted(Tables& t, const LightField& f, uint32_t m, glm::vec4 box,
     ++dof;
   }
   const double p = test::chi_square_p_value(stat, std::max(dof, 1));
-  std::printf("image %u box (%.2f,%.2f)-(%.2f,%.2f) %s%s: chi2 %.1f, dof %d, p %.3f; mean 1/pdf %.3f vs lit area %.3f\n",
-              m, box.x, box.y, box.z, box.w, method == 0 ? "secant" : "binary", in_box ? ", box rows" : "", stat, dof,
-              p, inverse / n, lit);
+  std::printf(
+      "image %u box (%.2f,%.2f)-(%.2f,%.2f) %s%s: chi2 %.1f, dof %d, p %.3f; mean 1/pdf %.3f vs lit area %.3f\n", m,
+      box.x, box.y, box.z, box.w, method == 0 ? "secant" : "binary", in_box ? ", box rows" : "", stat, dof, p,
+      inverse / n, lit);
   EXPECT_GT(p, 0.001) << "the samples do not follow the restricted density";
   // E[1 / pdf] over all draws (0 for a draw that found nothing) is the
   // measure of the set where the density is > 0.
@@ -206,7 +208,8 @@ TEST(LuminaireTables, TheBoxRowsSamplerHasDensityCOverA) {
     const uint32_t img = t.reader.svo_lum_image(t.info, m);
     const double area = direct_area(f, m, box, t.info.texel_area);
     double brightest = 0;
-    for (size_t i = 0; i < size_t(f.width) * f.height; ++i) brightest = std::max(brightest, luminance(&f.images[m][3 * i]));
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
+      brightest = std::max(brightest, luminance(&f.images[m][3 * i]));
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     double worst = 0;
@@ -292,8 +295,8 @@ TEST_F(LuminaireOnBothHosts, EachSamplerIsUnbiased) {
   for (const auto& c : truth.colour) lit += c.g > 0 ? 1 : 0;
   ASSERT_GT(lit, 100) << "the luminaire must light most of the sphere";
   const uint32_t runs = 256;
-  for (LuminaireSampler sampler : {LuminaireSampler::Restricted, LuminaireSampler::Box, LuminaireSampler::Uniform,
-                                   LuminaireSampler::Global}) {
+  for (LuminaireSampler sampler :
+       {LuminaireSampler::Restricted, LuminaireSampler::Box, LuminaireSampler::Uniform, LuminaireSampler::Global}) {
     for (auto& r : renderers_) {
       const size_t n = truth.colour.size();
       std::vector<double> sum(n, 0.0), sum2(n, 0.0);
@@ -332,11 +335,13 @@ TEST_F(LuminaireOnBothHosts, EachSamplerIsUnbiased) {
         worst = std::max(worst, std::abs(mean - want) / want);
         within += z <= 3.0 ? 1 : 0;
       }
-      std::printf("%s, %s: %u of %zu pixels within 3 standard errors of the quadrature (worst relative %.4f), "
-                  "%u dark\n", luminaire_sampler_name(sampler), host_name(r->host()), within, n - dark, worst, dark);
+      std::printf(
+          "%s, %s: %u of %zu pixels within 3 standard errors of the quadrature (worst relative %.4f), "
+          "%u dark\n",
+          luminaire_sampler_name(sampler), host_name(r->host()), within, n - dark, worst, dark);
       EXPECT_LT(dark, n / 10);
-      EXPECT_GE(within, uint32_t(std::ceil(0.99 * (n - dark)))) << luminaire_sampler_name(sampler) << " on "
-                                                                << host_name(r->host());
+      EXPECT_GE(within, uint32_t(std::ceil(0.99 * (n - dark))))
+          << luminaire_sampler_name(sampler) << " on " << host_name(r->host());
     }
   }
 }
@@ -413,8 +418,8 @@ TEST(LuminaireVisibility, CellConesFindTheUmbraPerSampleConesFind) {
   m.kind = BrdfKind::Lambert;
   m.diffuse = glm::vec3(0.8f);
   s.shading.material = std::make_shared<const Material>(m);
-  s.luminaire.luminaires.push_back(
-      {std::make_shared<const LightField>(make_panel_luminaire(16, 3, 50.0f)), {{0.0f, 1.3f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.3f}});
+  s.luminaire.luminaires.push_back({std::make_shared<const LightField>(make_panel_luminaire(16, 3, 50.0f)),
+                                    {{0.0f, 1.3f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.3f}});
   s.luminaire.spp = 64;
   auto with = [&](LuminaireVisibility v) {
     RenderSettings t = s;

@@ -1,6 +1,8 @@
 // The reference under light-field luminaires (DESIGN 10.4): the dense
 // quadrature on the exact surface against an independent integral over
 // directions, and exact shadows of an occluder.
+#include "svo/render/luminaire.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
-#include "svo/render/luminaire.h"
 #include "svo/render/shading.h"
 #include "test_scenes.h"
 

@@ -9,15 +9,15 @@
 #include <fstream>
 #include <random>
 
+#include "svo/render/luminaire.h"
 #include "temp_dir.h"
 #include "tm25_writer.h"
-#include "svo/render/luminaire.h"
 
 namespace {
 
 using svo::render::import_tm25;
-using svo::render::LightField;
 using svo::render::light_field_flux;
+using svo::render::LightField;
 using svo::testing::encode_tm25;
 using svo::testing::Tm25File;
 using svo::testing::Tm25Ray;
@@ -176,7 +176,8 @@ TEST(Tm25, HostileFilesAreRefused) {
     const std::string path = variant("good.tm25ray", bytes);
     EXPECT_NO_THROW(import_tm25(path, 4, 8));
   }
-  expect_refused(variant("truncated-ray", std::vector<uint8_t>(bytes.begin(), bytes.end() - 9)), "bytes, but 64 rays of 28 bytes");
+  expect_refused(variant("truncated-ray", std::vector<uint8_t>(bytes.begin(), bytes.end() - 9)),
+                 "bytes, but 64 rays of 28 bytes");
   expect_refused(variant("truncated-header", std::vector<uint8_t>(bytes.begin(), bytes.begin() + 1000)),
                  "truncated: 1000 bytes");
   {

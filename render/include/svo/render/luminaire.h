@@ -56,16 +56,16 @@ struct LightField {
   static constexpr uint32_t kMaxGridSide = 16;
   static constexpr uint64_t kMaxTexels = 64ull << 20;  // over all images
 
-  float delta = 0.05f;                 // distance between U and S, > 0
-  glm::vec2 extent{0.1f, 0.1f};        // plane S's size in x and y, > 0, centred on the axis
-  uint32_t width = 0, height = 0;      // each image's texels in x and y, 1 to kMaxImageSide
-  uint32_t grid_w = 0, grid_h = 0;     // W x H basis functions, 1 to kMaxGridSide each
-  float spacing = 0.01f;               // h, the basis grid's spacing on U, > 0
+  float delta = 0.05f;              // distance between U and S, > 0
+  glm::vec2 extent{0.1f, 0.1f};     // plane S's size in x and y, > 0, centred on the axis
+  uint32_t width = 0, height = 0;   // each image's texels in x and y, 1 to kMaxImageSide
+  uint32_t grid_w = 0, grid_h = 0;  // W x H basis functions, 1 to kMaxGridSide each
+  float spacing = 0.01f;            // h, the basis grid's spacing on U, > 0
   LuminaireBasis basis = LuminaireBasis::BSpline;
-  std::string units = "m";             // the length unit of delta, extent and spacing ("m", "mm", ...)
-  float metres_per_unit = 1.0f;        // > 0
-  LuminairePlacement pose;             // the file's default placement (its own frame: at the origin)
-  std::string source;                  // what made it (a description; at most 255 bytes in the file)
+  std::string units = "m";       // the length unit of delta, extent and spacing ("m", "mm", ...)
+  float metres_per_unit = 1.0f;  // > 0
+  LuminairePlacement pose;       // the file's default placement (its own frame: at the origin)
+  std::string source;            // what made it (a description; at most 255 bytes in the file)
   // M = grid_w * grid_h images, image m = j * grid_w + i for basis (i, j),
   // each width * height RGB radiances, row 0 at -y, texel (x, y) at
   // images[m][3 * (y * width + x) + c]; every value finite and >= 0.
@@ -121,8 +121,8 @@ LightField make_headlight_luminaire(uint32_t resolution, uint32_t grid, float ra
 // of width `die` (in units of S's extent) per die, where the ray from basis
 // centre m to that die's focus crosses S. Its images are mostly dark, so
 // that where the samples of S go matters (the restricted CDFs' case).
-LightField make_led_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t leds = 3,
-                              float die = 0.015f, float focus = 0.12f);
+LightField make_led_luminaire(uint32_t resolution, uint32_t grid, float radiance, uint32_t leds = 3, float die = 0.015f,
+                              float focus = 0.12f);
 
 // Reads an IES TM-25 ray file and bins its rays into a light field of
 // grid x grid basis functions and resolution x resolution images (flux
@@ -154,8 +154,8 @@ enum class LuminaireVisibility : uint32_t { None = 0, Cells = 1, Samples = 2 };
 // PCG hash per sample, standing for the paper's Mersenne twister).
 enum class LuminaireSequence : uint32_t { Halton = 0, Random = 1 };
 
-const char* luminaire_sampler_name(LuminaireSampler s);  // "restricted", "uniform", "global", "box"
-const char* luminaire_search_name(LuminaireSearch s);    // "secant", "binary"
+const char* luminaire_sampler_name(LuminaireSampler s);        // "restricted", "uniform", "global", "box"
+const char* luminaire_search_name(LuminaireSearch s);          // "secant", "binary"
 const char* luminaire_visibility_name(LuminaireVisibility v);  // "none", "cells", "samples"
 const char* luminaire_sequence_name(LuminaireSequence s);      // "halton", "random"
 // @throw std::invalid_argument naming the values there are
@@ -177,9 +177,9 @@ struct LuminaireOptions {
   LuminaireSearch search = LuminaireSearch::Secant;
   LuminaireVisibility visibility = LuminaireVisibility::Cells;
   LuminaireSequence sequence = LuminaireSequence::Halton;
-  uint32_t spp = 200;        // K, samples per pixel over all images of a luminaire, >= 1
-  uint32_t kmax = 0;         // K_max, the cap on K_m(p) (Fig. 9); 0: none
-  uint32_t search_depth = 0; // steps of the CDF inversion before it interpolates (Fig. 5); 0: until exact
+  uint32_t spp = 200;         // K, samples per pixel over all images of a luminaire, >= 1
+  uint32_t kmax = 0;          // K_max, the cap on K_m(p) (Fig. 9); 0: none
+  uint32_t search_depth = 0;  // steps of the CDF inversion before it interpolates (Fig. 5); 0: until exact
   uint32_t seed = 1;
   // > 0: instead of sampling, dense quadrature of the same integral with
   // quadrature^2 points per texel of S and no visibility (the ground truth
