@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace svo::render::detail {
@@ -58,6 +59,15 @@ void write_atomically(const std::string& path, const std::function<void(const st
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+void write_bytes_atomically(const std::string& path, const void* data, size_t size) {
+  write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(static_cast<const char*>(data), std::streamsize(size));
+    out.close();
+    if (!out) throw std::runtime_error(path + ": cannot write " + temporary + ": " + std::strerror(errno));
+  });
 }
 
 std::string file_kind(std::filesystem::file_type type) {

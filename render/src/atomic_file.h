@@ -4,6 +4,7 @@
 // name nor destroys the file that was there. Internal to svo_render.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -18,6 +19,11 @@ namespace svo::render::detail {
 // @throw std::runtime_error "<path>: cannot write: <step>: <reason>" for the
 //        steps done here; exceptions of `write` pass through unchanged.
 void write_atomically(const std::string& path, const std::function<void(const std::string& temporary)>& write);
+
+// write_atomically of `size` bytes at `data`.
+// @throw std::runtime_error "<path>: cannot write <temporary>: <reason>", or
+//        write_atomically's
+void write_bytes_atomically(const std::string& path, const void* data, size_t size);
 
 // What a path that is not a regular file is, for messages: "a directory",
 // "a FIFO", "a character device", "a block device", "a socket", or "not a

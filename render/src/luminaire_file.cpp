@@ -367,12 +367,7 @@ void save_light_field(const LightField& field, const fs::path& path) {
   validate(field, path.string());
   const std::vector<uint8_t> bytes = encode(field);
   try {
-    detail::write_atomically(path.string(), [&](const std::string& temporary) {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-      out.close();
-      if (!out) throw std::runtime_error(path.string() + ": cannot write " + temporary + ": " + std::strerror(errno));
-    });
+    detail::write_bytes_atomically(path.string(), bytes.data(), bytes.size());
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string("luminaire: ") + e.what());
   }

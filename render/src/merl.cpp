@@ -189,12 +189,7 @@ void write_merl(const fs::path& path, const MerlBrdf& brdf) {
     }
   }
   try {
-    detail::write_atomically(path.string(), [&](const std::string& temporary) {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-      out.close();
-      if (!out) throw std::runtime_error(path.string() + ": cannot write " + temporary + ": " + std::strerror(errno));
-    });
+    detail::write_bytes_atomically(path.string(), bytes.data(), bytes.size());
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string("merl: ") + e.what());
   }

@@ -187,12 +187,12 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
       if (i < first || i - first >= chunk) continue;
       vec2 u = svo_lum_rand(pixel, i, 0u, o.sequence, o.seed);
       if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
-        // The image by its share of the energy, then the whole image.
-        uint cdf = f.image_cdf;
-        m = svo_find_lum_interval(cdf, count, u.x);
-        float c0 = svo_lum_table(cdf + m);
-        float c1 = svo_lum_table(cdf + m + 1u);
-        u.x = clamp((u.x - c0) / max(c1 - c0, 1.0e-30f), 0.0f, 0.99999994f);
+        // The image by its share of the energy (the CDF over images,
+        // inverted: its integer part the image, the rest reused), then the
+        // whole image.
+        float x = svo_lum_invert(f, svo_lum_table_cdf(f.image_cdf), count, 0u, count, u.x, SVO_LUM_SEARCH_BINARY, 0u);
+        m = min(uint(x), count - 1u);
+        u.x = clamp(x - float(m), 0.0f, 0.99999994f);
         img = svo_lum_image(f, m);
         vis_known = false;
       }

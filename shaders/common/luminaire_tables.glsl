@@ -73,21 +73,6 @@ SVO_FN SvoLumInfo svo_lum_info(uint l) {
   return f;
 }
 
-// The last i in [0, n) with the CDF at `at` (n + 1 floats) <= u.
-SVO_FN uint svo_find_lum_interval(uint at, uint n, float u) {
-  uint lo = 0u;
-  uint hi = n;
-  while (hi - lo > 1u) {
-    uint mid = (lo + hi) / 2u;
-    if (svo_lum_table(at + mid) <= u) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
 // Offsets of image m's tables.
 SVO_FN uint svo_lum_image(SvoLumInfo f, uint m) { return f.images + m * f.stride; }
 SVO_FN uint svo_lum_cond(SvoLumInfo f, uint img, uint column) { return img + f.w + 1u + column * (f.h + 1u); }
