@@ -7,6 +7,7 @@
 
 namespace svo::math {
 using namespace glm;
+#include "bandwidth_ops.glsl"
 #include "beckmann.glsl"
 #include "cone_mask.glsl"
 #include "detail.glsl"
