@@ -26,6 +26,7 @@ PACKAGES=(
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
   libopenimageio-dev                       # textures; PNG and EXR output
   libtbb-dev                               # parallel loops
+  libfftw3-dev                             # windowed-FFT reference bandwidth (render/bandwidth.h)
   libglfw3-dev                             # the window of svo view
   libembree-dev                            # meshes ray traced for svo reference (ground truth)
   xvfb xauth xdotool                       # xvfb-run, keys: the viewer's tests without a display

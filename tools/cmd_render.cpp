@@ -40,6 +40,7 @@ struct RenderArgs {
       shading;  // tracer or forward; empty: forward with --env, --material or the octree's materials, else tracer
   LightingOptions lighting;
   FilterArgs filter;
+  render::AdaptiveOptions adaptive;
   LuminaireArgs luminaires;
   uint32_t seed = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
@@ -111,10 +112,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--shading", a->shading,
                   "tracer: each cone element shaded by the lights as it is marched (paper Eq. 13); forward: the "
                   "G-buffer shaded afterwards with --env, --material and --spp samples per pixel (multiple "
-                  "importance sampling). Default: forward with --env or --material or an octree that carries materials "
+                  "importance sampling); adaptive: as forward, but each pixel shaded at the pyramid level and with the "
+                  "samples its predicted bandwidth and variance ask for (Bagher et al. 2013; --adaptive-*). Default: "
+                  "forward with --env or --material or an octree that carries materials "
                   "(svo voxelize --material, "
                   "--scene material-spheres), else tracer")
-      ->check(CLI::IsMember({"tracer", "forward"}))
+      ->check(CLI::IsMember({"tracer", "forward", "adaptive"}))
       ->group("Shading");
   cmd->add_option("--seed", a->seed, "Seed of the forward pass's sample sequence")->group("Shading");
   add_lighting_options(*cmd, a->lighting);
@@ -149,6 +152,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Shading");
   add_light_options(*cmd, a->view);
   add_filter_options(*cmd, a->filter);
+  add_adaptive_options(*cmd, a->adaptive);
   add_luminaire_options(*cmd, a->luminaires);
   cmd->add_option("--pass", a->passes,
                   "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
@@ -181,8 +185,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Mode> mode = render::parse_mode(a->mode);
     if (!mode)
       throw std::invalid_argument("unknown mode '" + a->mode + "' (modes: prefiltered, nearest, alpha, mip, raymarch)");
-    bool forward = a->shading.empty() ? uses_lighting(a->lighting) || uses_filter(a->filter) : a->shading == "forward";
-    if (uses_filter(a->filter) && !forward) {
+    const bool adaptive = a->shading == "adaptive";
+    bool forward =
+        a->shading.empty() ? uses_lighting(a->lighting) || uses_filter(a->filter) : a->shading == "forward" || adaptive;
+    if (uses_filter(a->filter) && (!forward || adaptive)) {
       throw std::invalid_argument("--filter and --upsample filter the forward pass: they need --shading forward");
     }
     if (forward && *mode != render::Mode::Prefiltered) {
@@ -266,6 +272,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.shading.seed = a->seed;
     apply_lighting(a->lighting, settings);
     apply_filter(a->filter, settings);
+    settings.adaptive = a->adaptive;
     apply_luminaires(a->luminaires, &tree, settings);
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
@@ -285,7 +292,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto setup_start = std::chrono::steady_clock::now();
     std::unique_ptr<render::Renderer> renderer =
         render::make_renderer(tree, {a->cpu ? "native" : a->device, a->validate});
-    if (forward && uses_filter(a->filter)) {
+    render::AdaptivePass* adaptive_pass = nullptr;
+    if (adaptive) {
+      auto pass = std::make_unique<render::AdaptivePass>();
+      adaptive_pass = pass.get();
+      renderer->add_pass(std::move(pass));
+    } else if (forward && uses_filter(a->filter)) {
       add_filter_passes(a->filter, *renderer);
     } else if (forward) {
       renderer->add_pass(render::make_pass("forward"));
@@ -328,59 +340,73 @@ void add_render_command(CLI::App& app, int& exit_code) {
     for (const auto& p : frame.passes)
       passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
     if (a->json) {
-      nlohmann::json out{{"file", a->input},
-                         {"output", a->output},
-                         {"width", frame.width},
-                         {"height", frame.height},
-                         {"mode", render::mode_name(*mode)},
-                         {"spp", forward ? settings.shading.spp : rays},
-                         {"shading", forward ? "forward" : "tracer"},
-                         {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
-                                                                            {"beta", settings.filter.beta},
-                                                                            {"sigma_n2", settings.filter.sigma_n2},
-                                                                            {"radius", settings.filter.radius},
-                                                                            {"upsample", a->filter.upsample}}
-                                                           : nlohmann::json(nullptr)},
-                         {"luminaires", settings.luminaire.luminaires.empty()
-                                            ? nlohmann::json(nullptr)
-                                            : nlohmann::json{{"files", a->luminaires.files},
-                                                             {"sampler", a->luminaires.sampler},
-                                                             {"spp", settings.luminaire.spp},
-                                                             {"kmax", settings.luminaire.kmax},
-                                                             {"visibility", a->luminaires.visibility},
-                                                             {"search", a->luminaires.search},
-                                                             {"sequence", a->luminaires.sequence}}},
-                         {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
-                         {"material", settings.shading.material
-                                          ? nlohmann::json::parse(render::material_json(*settings.shading.material))
-                                          : nlohmann::json(nullptr)},
-                         {"view", view_name},
-                         {"device", renderer->device_name()},
-                         {"device_type", renderer->device_type()},
-                         {"host", render::host_name(renderer->host())},
-                         {"ms", ms},
-                         {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
-                         {"repeats", a->repeats},
-                         {"ms_each", times},
-                         {"passes", passes},
-                         {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
-                         {"wall_ms", frame.wall_ms},
-                         {"load_ms", load_ms},
-                         {"setup_ms", setup_ms},
-                         {"covered_pixels", frame.covered_pixels},
-                         {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
-                         {"steps_per_pixel", frame.steps_per_pixel},
-                         {"shadows", settings.shadows},
-                         {"footprint_spread", settings.footprint_spread},
-                         {"curved_masks", settings.curved_masks},
-                         {"front_facing", settings.front_facing},
-                         {"element_normals", settings.element_normals},
-                         {"covered_part", settings.covered_part},
-                         {"shading_voxel", settings.shading_voxel},
-                         {"lights", lights_json(settings.lights)},
-                         {"camera", camera_json(settings.camera)},
-                         {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
-                         {"validation_messages", messages}};
+      nlohmann::json out{
+          {"file", a->input},
+          {"output", a->output},
+          {"width", frame.width},
+          {"height", frame.height},
+          {"mode", render::mode_name(*mode)},
+          {"spp", forward ? settings.shading.spp : rays},
+          {"shading", adaptive  ? "adaptive"
+                      : forward ? "forward"
+                                : "tracer"},
+          {"adaptive", adaptive_pass ? nlohmann::json{{"shaded_texels", adaptive_pass->stats().shaded},
+                                                      {"samples", adaptive_pass->stats().samples},
+                                                      {"covered_pixels", adaptive_pass->stats().covered},
+                                                      {"pixels_at_level", adaptive_pass->stats().pixels_at_level},
+                                                      {"shaded_at_level", adaptive_pass->stats().shaded_at_level},
+                                                      {"tables_ms", adaptive_pass->stats().tables_ms},
+                                                      {"bandwidth_ms", adaptive_pass->stats().bandwidth_ms},
+                                                      {"shading_ms", adaptive_pass->stats().shading_ms},
+                                                      {"tau", settings.adaptive.tau},
+                                                      {"directions", settings.adaptive.directions}}
+                                     : nlohmann::json(nullptr)},
+          {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
+                                                             {"beta", settings.filter.beta},
+                                                             {"sigma_n2", settings.filter.sigma_n2},
+                                                             {"radius", settings.filter.radius},
+                                                             {"upsample", a->filter.upsample}}
+                                            : nlohmann::json(nullptr)},
+          {"luminaires", settings.luminaire.luminaires.empty()
+                             ? nlohmann::json(nullptr)
+                             : nlohmann::json{{"files", a->luminaires.files},
+                                              {"sampler", a->luminaires.sampler},
+                                              {"spp", settings.luminaire.spp},
+                                              {"kmax", settings.luminaire.kmax},
+                                              {"visibility", a->luminaires.visibility},
+                                              {"search", a->luminaires.search},
+                                              {"sequence", a->luminaires.sequence}}},
+          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
+          {"material", settings.shading.material
+                           ? nlohmann::json::parse(render::material_json(*settings.shading.material))
+                           : nlohmann::json(nullptr)},
+          {"view", view_name},
+          {"device", renderer->device_name()},
+          {"device_type", renderer->device_type()},
+          {"host", render::host_name(renderer->host())},
+          {"ms", ms},
+          {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
+          {"repeats", a->repeats},
+          {"ms_each", times},
+          {"passes", passes},
+          {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
+          {"wall_ms", frame.wall_ms},
+          {"load_ms", load_ms},
+          {"setup_ms", setup_ms},
+          {"covered_pixels", frame.covered_pixels},
+          {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
+          {"steps_per_pixel", frame.steps_per_pixel},
+          {"shadows", settings.shadows},
+          {"footprint_spread", settings.footprint_spread},
+          {"curved_masks", settings.curved_masks},
+          {"front_facing", settings.front_facing},
+          {"element_normals", settings.element_normals},
+          {"covered_part", settings.covered_part},
+          {"shading_voxel", settings.shading_voxel},
+          {"lights", lights_json(settings.lights)},
+          {"camera", camera_json(settings.camera)},
+          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
+          {"validation_messages", messages}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->output << ": " << frame.width << "x"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 
 #include "svo/render/camera.h"
@@ -129,6 +130,57 @@ void apply_filter(const FilterArgs& o, render::RenderSettings& settings) {
 void add_filter_passes(const FilterArgs& o, render::Renderer& renderer) {
   renderer.add_pass(std::make_unique<render::ForwardPass>(render::ForwardOutput{true, o.upsample}));
   renderer.add_pass(std::make_unique<render::LobeFilterPass>(o.upsample));
+}
+
+void add_adaptive_options(CLI::App& cmd, render::AdaptiveOptions& o) {
+  cmd.add_option(
+         "--adaptive-tau", o.tau,
+         "--shading adaptive: the variance each pixel aims at, relative to (L + 0.01)^2 (a relMSE) (Bagher Eq. 9 sets "
+         "each pixel's sample count from it; smaller: more samples)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0e-6f, 1.0e6f))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-directions", o.directions,
+                 "--shading adaptive: light directions per pixel for its bandwidth and variance (n_b, Eq. 5 and 9)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4096u))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-min-spp", o.min_spp, "--shading adaptive: the fewest samples a shaded pixel takes")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4096u))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-max-spp", o.max_spp, "--shading adaptive: the most samples a shaded pixel takes")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4096u))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-coarsest", o.coarsest,
+                 "--shading adaptive: the coarsest level shaded, every 2^N-th pixel of each axis (0: every pixel)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 7u))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-sigma-z", o.sigma_z,
+                 "--shading adaptive: the upsampling depth weight's deviation, in parent spacings times the pixel's "
+                 "footprint")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0e-3f, 1.0e3f))
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-variance", o.measured_variance,
+                 "--shading adaptive: how each pixel's sample count is set: bound (Bagher Eq. 9, which assumes uniform "
+                 "sampling) or measured (the variance of the n_b directions' importance-sampled estimates)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"bound", false}, {"measured", true}}))
+      ->default_str("bound")
+      ->group("Adaptive");
+  cmd.add_option("--adaptive-bandwidth-block", o.bandwidth_block,
+                 "--shading adaptive: one bandwidth estimate per pixel (1) or per 2x2 pixels (2: 4x cheaper; "
+                 "silhouettes still at the finest level)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({1u, 2u}))
+      ->group("Adaptive");
+  cmd.add_flag(
+         "--no-slope-limit", [&o](int64_t) { o.slope_limit = false; },
+         "--shading adaptive: the voxels' slope variance does not band-limit the reflected light (the paper's "
+         "bandwidths alone)")
+      ->group("Adaptive");
 }
 
 void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {

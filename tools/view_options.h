@@ -83,6 +83,11 @@ void apply_filter(const FilterArgs& o, render::RenderSettings& settings);
 // 1/upsample of the size) and the lobe-aware filter.
 void add_filter_passes(const FilterArgs& o, render::Renderer& renderer);
 
+// The bandwidth-adaptive pass's options (group Adaptive): --adaptive-tau,
+// --adaptive-directions, --adaptive-min-spp, --adaptive-max-spp,
+// --adaptive-coarsest, --adaptive-sigma-z, --no-slope-limit.
+void add_adaptive_options(CLI::App& cmd, render::AdaptiveOptions& o);
+
 // The luminaire options (group Luminaires).
 void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o);
 // Checks the names and placements (no file read).

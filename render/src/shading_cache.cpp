@@ -31,6 +31,7 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
     default_material_ = fallback;
     given_scene_ = ctx.settings.shading.scene_materials;
     valid_ = true;
+    ++generation_;
     floats_.reset();
   }
   ShadingTables& t = tables_;
@@ -40,6 +41,15 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
                                      (ctx.settings.shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
                                  t.params.sampling.w);
   return t;
+}
+
+std::vector<const Material*> ShadingCache::materials() const {
+  if (material_) return {material_.get()};
+  const auto& scene = given_scene_.empty() ? scene_materials_ : given_scene_;
+  if (scene.empty()) return {&default_material_};
+  std::vector<const Material*> all;
+  for (const auto& m : scene) all.push_back(m.get());
+  return all;
 }
 
 const vk::Buffer* ShadingCache::params_buffer(vk::Context& context) {

@@ -23,6 +23,12 @@ class ShadingCache {
   // and the tables as device buffers, uploaded.
   const vk::Buffer* params_buffer(vk::Context& context);
   const vk::Buffer* tables_buffer(vk::Context& context);
+  // After update(): the materials in the order the tables index them
+  // (svo_scene_material): the options' one, the scene's, or the built-in one.
+  std::vector<const Material*> materials() const;
+  // Counts the tables built so far: a pass caching what it derives from
+  // them rebuilds when this changes.
+  uint64_t generation() const { return generation_; }
 
  private:
   // What the tables were built from, held so that a new object cannot
@@ -34,6 +40,7 @@ class ShadingCache {
   std::vector<std::shared_ptr<const Material>> scene_materials_;
   std::vector<std::shared_ptr<const Material>> given_scene_;  // the options' own, when the tables were built
   bool valid_ = false;
+  uint64_t generation_ = 0;
   ShadingTables tables_;
   std::unique_ptr<vk::Buffer> params_, floats_;
 };

@@ -51,11 +51,12 @@ double VisibilityPass::run(PassContext& ctx) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::vector<std::string> pass_names() { return {"visibility", "forward"}; }
+std::vector<std::string> pass_names() { return {"visibility", "forward", "adaptive"}; }
 
 std::unique_ptr<Pass> make_pass(const std::string& name) {
   if (name == "visibility") return std::make_unique<VisibilityPass>();
   if (name == "forward") return std::make_unique<ForwardPass>();
+  if (name == "adaptive") return std::make_unique<AdaptivePass>();
   std::string names;
   for (const auto& n : pass_names()) names += (names.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown pass '" + name + "' (passes: " + names + ")");

@@ -44,9 +44,16 @@ SVO_FN vec2 svo_bw_mirror(vec2 nu) { return nu; }
 
 SVO_FN vec2 svo_bw_band_limit(vec2 nu, float t, float rho) { return vec2(nu.x + t, min(rho, nu.y)); }
 
-// Eq. 3: R = P_x C_{-c} S B_{t,rho} C_c P_i.
+// Eq. 3: R = P_x C_{-c} S B_{t,rho} C_c P_i, on the spectrum's support:
+// B's angular cut is a window |nu_a| <= rho, and C_c shears along nu_s
+// without moving nu_a, so the window cuts the sheared support exactly where
+// it cuts the unsheared one. Cutting first gives the bounding rectangle of
+// the true support (nu_s cos_i + |c| min(nu_a, rho)); boxing the sheared
+// rectangle first would keep |c| nu_a, unbounded for a light of unbounded
+// angular bandwidth (a directional light on a curved surface).
 SVO_FN vec2 svo_bw_reflect(vec2 nu, float c, float cos_i, float cos_x, float t, float rho) {
   vec2 r = svo_bw_incident(nu, cos_i);
+  r.y = min(r.y, rho);
   r = svo_bw_curvature(r, c);
   r = svo_bw_band_limit(r, t, rho);
   r = svo_bw_mirror(r);
@@ -97,6 +104,7 @@ SVO_FN float svo_bw_variance_term(float nu_a, float nu_rho, float chi) {
 // Flags of the bandwidth-adaptive pass (SvoAdaptiveParams::config.z).
 SVO_CONST uint SVO_ADAPTIVE_SLOPE_LIMIT = 1u;  // the voxels' slope variance band-limits too (svo_bw_slope_limit)
 SVO_CONST uint SVO_ADAPTIVE_FINEST = 2u;       // every pixel at level 0 with shade.sampling.x samples: forward shading
+SVO_CONST uint SVO_ADAPTIVE_MEASURED = 4u;     // N_p from the n_b directions' sample variance instead of Eq. 9's bound
 // The pyramid levels of the pass's images (render::AdaptivePass): level 7
 // shades every 128th pixel of each axis.
 SVO_CONST uint SVO_ADAPTIVE_LEVELS = 8u;
@@ -111,11 +119,12 @@ SVO_CONST float SVO_ADAPTIVE_EMPTY = 3.0f;      // no surface at its centre pixe
 struct SvoAdaptiveParams {
   uvec4 config;  // x: n_b (directions per pixel), y: most samples per pixel, z: flags (SVO_ADAPTIVE_*),
                  // w: the coarsest level (< SVO_ADAPTIVE_LEVELS)
-  vec4 quality;  // x: tau, the variance each pixel aims at relative to (L^2 + 0.01); y: the upsampling
+  vec4 quality;  // x: tau, the variance each pixel aims at relative to (L + 0.01)^2; y: the upsampling
                  // depth weight's deviation, in parent spacings times the pixel's footprint; z: fewest samples
   uvec4 tables;  // x: table offset of the environment's bandwidth map, y: its width, z: its height (0: none),
                  // w: table offset of the BRDF bandwidth tables (16^3 floats per material, in the scene's order)
-  uvec4 frame;   // x: the level a dispatch works on, y: the BRDF tables' count
+  uvec4 frame;   // x: the level a dispatch works on, y: the BRDF tables' count, z: the side of the blocks the
+                 // bandwidth buffer's estimates are made for (1: every pixel; 2: one per 2x2 pixels)
 };
 
 #endif

@@ -144,13 +144,13 @@ SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float sp
 
 // The share of samples [first, first + count) of the radiance leaving the
 // G-buffer point towards the eye, diffuse and specular apart: their sum
-// over shade.sampling.x samples.
-SVO_FN SvoForwardSum svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
+// over `spp` samples (the bandwidth-adaptive pass's per-pixel count).
+SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first, uint count, uint spp) {
   SvoShadingPoint p = svo_shading_point(g);
   SvoMaterial first_material = svo_scene_material(g.material);
   SvoMaterial second_material = svo_scene_material(g.material2);
   bool mixed = g.material != g.material2 && g.material_mix < 1.0f;
-  uint spp = max(shade.sampling.x, 1u);
+  spp = max(spp, 1u);
   uint seed = shade.sampling.y;
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
   bool light_shadows = (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u;
@@ -202,6 +202,11 @@ SVO_FN SvoForwardSum svo_forward_samples(SvoGBuffer g, uint pixel, uint first, u
   sum.diffuse *= inv;
   sum.specular *= inv;
   return sum;
+}
+
+// The same over shade.sampling.x samples (the forward pass's).
+SVO_FN SvoForwardSum svo_forward_samples(SvoGBuffer g, uint pixel, uint first, uint count) {
+  return svo_forward_samples_of(g, pixel, first, count, shade.sampling.x);
 }
 
 // The G-buffer texel that texel `low` of an image at 1/scale of the

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <glm/mat2x2.hpp>
+#include <vector>
 
 #include "common/shared_math.h"
 
@@ -78,33 +79,57 @@ TEST(BandwidthOps, BandLimitAddsTheTextureAndCutsTheAngle) {
   expect_near(svo_bw_band_limit(glm::vec2(2, 1), 0, 4), {2, 1});
 }
 
-TEST(BandwidthOps, ReflectionIsTheProductOfEq3) {
+// Eq. 3 on the spectrum's support, point by point: points of the
+// rectangle through P_i and C_c, those the BRDF's window |nu_a| <= rho
+// keeps, then the texture's convolution (nu_s widened by t), S, C_{-c},
+// P_x; the largest |coordinates| are the bandwidth.
+glm::dvec2 reflect_support(glm::dvec2 nu, double c, double ci, double cx, double t, double rho) {
+  glm::dvec2 r(0);
+  const int n = 200;
+  std::vector<double> ys;
+  for (int j = -n; j <= n; ++j) ys.push_back(nu.y * j / n);
+  // The window's edges, where they cross the rectangle: vertices of the cut support.
+  if (rho < nu.y) ys.insert(ys.end(), {-rho, rho});
+  for (int i = -n; i <= n; ++i)
+    for (double y : ys) {
+      glm::dvec2 p(nu.x * i / n, y);
+      p = rows(1, c, 0, 1) * (rows(ci, 0, 0, 1) * p);
+      if (std::abs(p.y) > rho) continue;
+      for (int s : {-1, 1}) {
+        glm::dvec2 q(p.x + s * t, p.y);
+        q = rows(1 / cx, 0, 0, 1) * (rows(1, -c, 0, 1) * (rows(1, 0, 0, -1) * q));
+        r = glm::max(r, glm::abs(q));
+      }
+    }
+  return r;
+}
+
+TEST(BandwidthOps, ReflectionIsEq3OnTheSupport) {
   for (glm::dvec2 nu : kNus)
     for (double c : {0.0, 0.7, 3.0})
-      for (double ti : {0.2, 1.1}) {
-        const double ci = std::cos(ti), cx = std::cos(0.6), t = 0.25, rho = 5;
-        glm::dvec2 r = bound(rows(ci, 0, 0, 1), nu);
-        r = bound(rows(1, c, 0, 1), r);
-        r = {r.x + t, std::min(rho, r.y)};
-        r = bound(rows(1, 0, 0, -1), r);
-        r = bound(rows(1, -c, 0, 1), r);
-        r = bound(rows(1 / cx, 0, 0, 1), r);
-        expect_near(svo_bw_reflect(glm::vec2(nu), float(c), float(ci), float(cx), float(t), float(rho)), r);
-        // Eq. 4 around it.
-        const double d = 2, de = 9;
-        glm::dvec2 e = bound(rows(1, 0, -de, 1), r);
-        if (nu.x > 0) {
-          glm::dvec2 n2 = bound(rows(1, 0, -d, 1), nu);
-          n2 = bound(rows(ci, 0, 0, 1), n2);
-          n2 = bound(rows(1, c, 0, 1), n2);
-          n2 = {n2.x + t, std::min(rho, n2.y)};
-          n2 = bound(rows(1, -c, 0, 1), n2);
-          e = bound(rows(1, 0, -de, 1), bound(rows(1 / cx, 0, 0, 1), n2));
+      for (double ti : {0.2, 1.1})
+        for (double rho : {0.5, 5.0, 100.0}) {
+          const double ci = std::cos(ti), cx = std::cos(0.6), t = 0.25;
+          const glm::dvec2 want = reflect_support(nu, c, ci, cx, t, rho);
+          const glm::vec2 got = svo_bw_reflect(glm::vec2(nu), float(c), float(ci), float(cx), float(t), float(rho));
+          EXPECT_NEAR(got.x, want.x, 0.02 * (1 + want.x)) << nu.x << " " << nu.y << " c " << c << " rho " << rho;
+          EXPECT_NEAR(got.y, want.y, 0.02 * (1 + want.y)) << nu.x << " " << nu.y << " c " << c << " rho " << rho;
+          // Eq. 4 around it: T_{d'} R T_d.
+          const double d = 2, de = 9;
+          const glm::dvec2 in = nu.x > 0 ? bound(rows(1, 0, -d, 1), nu) : nu;
+          const glm::dvec2 e = bound(rows(1, 0, -de, 1), reflect_support(in, c, ci, cx, t, rho));
+          const glm::vec2 all = svo_bw_one_bounce(glm::vec2(nu), float(d), float(de), float(c), float(ci), float(cx),
+                                                  float(t), float(rho));
+          EXPECT_NEAR(all.y, e.y, 0.02 * (1 + e.y));
         }
-        expect_near(
-            svo_bw_one_bounce(glm::vec2(nu), float(d), float(de), float(c), float(ci), float(cx), float(t), float(rho)),
-            e);
-      }
+}
+
+// A directional light (unbounded angular bandwidth) on a curved surface:
+// the BRDF's cut bounds what curvature turns into spatial frequency.
+TEST(BandwidthOps, UnboundedLightIsBoundedByTheBrdf) {
+  const glm::vec2 r = svo_bw_reflect({0, SVO_BW_INFINITE}, 10, 0.8f, 0.9f, 0, 2);
+  EXPECT_NEAR(r.x, 2 * 10 * 2 / 0.9f, 1e-3);
+  EXPECT_FLOAT_EQ(r.y, 2);
 }
 
 // A flat mirror shows the environment as it is: the angular bandwidth at the

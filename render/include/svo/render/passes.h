@@ -2,6 +2,7 @@
 // each a per-texel kernel of shaders/common run by both hosts.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -116,6 +117,49 @@ class LuminairePass : public Pass {
   bool over_;
   struct Cache;
   std::unique_ptr<Cache> cache_;  // the shading and luminaire tables, and the Vulkan kernel and buffers
+};
+
+// Bandwidth-adaptive environment shading (Bagher et al. 2013, DESIGN
+// 10.3; shaders/common/bandwidth.glsl) with RenderSettings::adaptive: the
+// bandwidth buffer from the G-buffer (per pixel the level at which it may
+// be shaded and its sample count), its mips, then shading coarse to fine,
+// each texel shaded with its own sample count or upsampled from the coarser
+// level. Reads "gbuffer" and "background"; writes "colour" (as the forward
+// pass composes it), "bandwidth" (Rgba32f, SVO_ADAPTIVE_LEVELS levels: the
+// level min-filtered, N_p, the relative variance bound and the screen-space
+// curvature max-filtered), "adaptive" (Rgba32f, the same levels: the
+// surface's radiance and the texel's state, SVO_ADAPTIVE_*) and
+// "adaptive_mask" (Rgba32f: the level each pixel was shaded at, -1 for
+// none, and its samples; Fig. 1d).
+class AdaptivePass : public Pass {
+ public:
+  AdaptivePass();
+  ~AdaptivePass() override;
+  std::string name() const override { return "adaptive"; }
+  std::vector<ImageDesc> reads() const override { return {gbuffer_image(), background_image()}; }
+  std::vector<ImageDesc> writes() const override {
+    return {colour_image(), bandwidth_image(), pyramid_image(), mask_image()};
+  }
+  double run(PassContext& context) override;
+  static ImageDesc bandwidth_image();
+  static ImageDesc pyramid_image();
+  static ImageDesc mask_image() { return {"adaptive_mask", TexelFormat::Rgba32f}; }
+  // What the last frame did: texels shaded and their samples, over all levels.
+  struct Stats {
+    uint64_t shaded = 0, samples = 0, covered = 0;
+    // Covered pixels by the level their bandwidth allows (Eq. 11), and
+    // shaded texels by the level they were shaded at.
+    std::array<uint64_t, 8> pixels_at_level{}, shaded_at_level{};
+    // The input bandwidths (environment, BRDFs: once per input), the
+    // bandwidth buffer and its mips, the levels and the composition.
+    double tables_ms = 0, bandwidth_ms = 0, shading_ms = 0;
+  };
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct Cache;
+  std::unique_ptr<Cache> cache_;  // the shading and bandwidth tables, and the Vulkan kernel and buffers
+  Stats stats_;
 };
 
 // The names make_pass knows, in the order --help lists them.

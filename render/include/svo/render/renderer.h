@@ -103,6 +103,8 @@ struct RenderSettings {
   FilterOptions filter;
   // The luminaires and their sampling (LuminairePass).
   LuminaireOptions luminaire;
+  // Bandwidth-adaptive shading (AdaptivePass).
+  AdaptiveOptions adaptive;
 };
 
 // One G-buffer texel (shaders/common/gbuffer.glsl, which says what each

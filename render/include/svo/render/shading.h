@@ -125,6 +125,29 @@ struct ShadingOptions {
   bool env_shadows = false;  // environment samples see visibility cones through the octree
 };
 
+// The bandwidth-adaptive pass's parameters (render::AdaptivePass; Bagher
+// et al. 2013, DESIGN 10.3).
+struct AdaptiveOptions {
+  uint32_t directions = 16;  // n_b: light directions per pixel for the bandwidth and the variance (Eq. 5, 9)
+  float tau = 0.02f;         // the variance each pixel's estimate aims at, relative to (L + 0.01)^2, a relMSE (Eq. 9)
+  uint32_t min_spp = 1;      // the fewest samples a shaded pixel takes
+  uint32_t max_spp = 256;    // and the most
+  uint32_t coarsest = 7;     // the coarsest level shaded: every 2^coarsest-th pixel (at most 7)
+  float sigma_z = 1.0f;      // the upsampling depth weight's deviation, in parent spacings x the pixel's footprint
+  bool slope_limit = true;   // the voxels' slope variance band-limits the reflected light (our addition)
+  // Each pixel's sample count from the n_b directions' measured variance
+  // (the estimator's own, importance sampling included) instead of Eq. 9's
+  // bound, which assumes uniform sampling (the paper's section 4.4).
+  bool measured_variance = false;
+  // The bandwidth buffer's estimates made once per block of this many pixels
+  // a side (1 or 2), at its most covered pixel, silhouettes still at level 0:
+  // the level-1 mip is the block's minimum anyway (our shortcut, 4x cheaper).
+  uint32_t bandwidth_block = 2;
+  // Every pixel shaded at level 0 with ShadingOptions::spp samples: forward
+  // shading through the adaptive pass (its test).
+  bool finest = false;
+};
+
 // The directional weight of the lobe-aware filter (shaders/common/
 // lobe_filter.glsl, SVO_FILTER_*; values are stable).
 enum class FilterWeight : uint32_t { None = 0, Normal = 1, Lobe = 2, Mixture = 3, Asg = 4 };
@@ -135,7 +158,7 @@ FilterWeight parse_filter_weight(const std::string& name);
 // The lobe-aware filter's parameters (render::LobeFilterPass; Tokuyoshi 2015).
 struct FilterOptions {
   FilterWeight weight = FilterWeight::Lobe;
-  float beta = 5.0f;  // the power of the lobe-aware weights (Eq. 11-13; svo bench lobe-filter: best 1-5 filtering)
+  float beta = 5.0f;       // the power of the lobe-aware weights (Eq. 11-13; svo bench lobe-filter: best 1-5 filtering)
   float sigma_n2 = 0.01f;  // the normal-aware weight's variance (Eq. 4)
   float sigma_z = 0.05f;   // the depth weight's deviation, relative to the pixel's depth (Eq. 3)
   float kappa = -1.0f;     // the smoothing kernel's sharpness (Eq. 9-10); < 0: none when filtering, 100 when upsampling

@@ -1,0 +1,212 @@
+// The bandwidth-adaptive pass (render::AdaptivePass, shaders/common/
+// bandwidth.glsl; Bagher et al. 2013, issue 17) on both hosts: forced to
+// the finest level it is forward shading, pixel for pixel; a flat diffuse
+// plane under a constant sky shades at the coarsest level, a mirror-like
+// sphere under a map of fine stripes at the finest, with more samples per
+// pixel than the plane; the hosts agree.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "../render/test_lighting.h"
+#include "../render/test_scenes.h"
+#include "common/shared_math.h"
+#include "svo/render/passes.h"
+#include "svo/render/renderer.h"
+#include "svo/render/shading.h"
+
+namespace svo::render {
+namespace {
+
+// A latitude-longitude map of `stripes` bright and dark stripes in longitude.
+Environment stripes(uint32_t stripes, uint32_t w = 256, uint32_t h = 128) {
+  Environment env;
+  env.width = w;
+  env.height = h;
+  env.source = "test-stripes";
+  env.rgb.resize(size_t(w) * h * 3);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * w + x) * 3 + k] = (x * 2 * stripes / w) % 2 ? 2.0f : 0.1f;
+  validate_environment(env);
+  return env;
+}
+
+struct Hosts {
+  std::unique_ptr<vk::Context> context;
+  std::vector<std::unique_ptr<Renderer>> renderers;
+  std::vector<AdaptivePass*> passes;
+
+  explicit Hosts(const octree::Octree& tree) {
+    vk::ContextOptions options;
+    options.device = "llvmpipe";
+    options.validation = true;
+    context = std::make_unique<vk::Context>(options);
+    renderers.push_back(std::make_unique<NativeRenderer>(tree));
+    renderers.push_back(std::make_unique<GpuRenderer>(*context, tree));
+    for (auto& r : renderers) {
+      auto pass = std::make_unique<AdaptivePass>();
+      passes.push_back(pass.get());
+      r->add_pass(std::move(pass));
+    }
+  }
+};
+
+RenderSettings settings(const Camera& camera, const Environment& env, const Material& material, uint32_t spp) {
+  RenderSettings s;
+  s.width = 64;
+  s.height = 64;
+  s.camera = camera;
+  s.lights.clear();
+  s.ambient = glm::vec3(0);
+  s.shading.environment = std::make_shared<const Environment>(env);
+  s.shading.material = std::make_shared<const Material>(material);
+  s.shading.spp = spp;
+  return s;
+}
+
+// Level 0 of the bandwidth buffer, and the G-buffer's coverage.
+struct Buffer {
+  std::vector<glm::vec4> bandwidth;
+  std::vector<float> coverage;
+};
+
+Buffer read_buffer(Renderer& r) {
+  Buffer b;
+  FrameImages& images = r.images();
+  const auto bw = images.texels<glm::vec4>(images.read(AdaptivePass::bandwidth_image()));
+  const auto g = images.texels<glm::vec4>(images.read(gbuffer_image()));
+  const size_t n = size_t(images.width()) * images.height();
+  b.bandwidth.assign(bw.begin(), bw.begin() + n);
+  for (size_t i = 0; i < n; ++i) b.coverage.push_back(g[kGBufferVec4s * i + 1].w);
+  return b;
+}
+
+TEST(AdaptivePass, AtTheFinestLevelItIsForwardShading) {
+  test::SphereScene sphere(0.5f);
+  const octree::Octree tree = test::voxelize(sphere, 64);
+  Material glossy;
+  glossy.kind = BrdfKind::Ggx;
+  glossy.roughness = 0.2f;
+  RenderSettings s = settings(test::looking_at_origin({0.4f, 0.3f, 1.6f}, 45.0f), test::sky(), glossy, 8);
+  s.adaptive.finest = true;
+  for (bool vulkan : {false, true}) {
+    Hosts hosts(tree);
+    auto& adaptive = *hosts.renderers[vulkan ? 1 : 0];
+    std::unique_ptr<Renderer> forward;
+    if (vulkan) {
+      forward = std::make_unique<GpuRenderer>(*hosts.context, tree);
+    } else {
+      forward = std::make_unique<NativeRenderer>(tree);
+    }
+    forward->add_pass(make_pass("forward"));
+    const Frame a = adaptive.render(s), f = forward->render(s);
+    ASSERT_EQ(a.colour.size(), f.colour.size());
+    double worst = 0;
+    for (size_t i = 0; i < a.colour.size(); ++i)
+      worst = std::max(worst, double(glm::length(a.colour[i] - f.colour[i])));
+    std::printf("%s: finest adaptive against forward, largest difference %g\n", vulkan ? "vulkan" : "native", worst);
+    // The same kernels, sample for sample: identical up to the device's
+    // rounding of the same operations.
+    EXPECT_LE(worst, vulkan ? 1e-4 : 0.0) << (vulkan ? "vulkan" : "native");
+    const AdaptivePass::Stats& st = hosts.passes[vulkan ? 1 : 0]->stats();
+    EXPECT_EQ(st.shaded, st.covered);
+    EXPECT_EQ(st.samples, 8 * st.covered);
+    EXPECT_TRUE(adaptive.validation_messages().empty());
+  }
+}
+
+TEST(AdaptivePass, PlaneAtTheCoarsestLevelMirrorAtTheFinest) {
+  Material lambert;
+  lambert.kind = BrdfKind::Lambert;
+  Material mirror;
+  mirror.kind = BrdfKind::Ggx;
+  mirror.roughness = 0.02f;
+  mirror.f0 = glm::vec3(0.9f);
+  // The face x = 0 of a half-space, head on, filling the frame.
+  test::HalfSpaceScene half({glm::vec3(-1.0f), glm::vec3(1.0f)});
+  const octree::Octree plane_tree = test::voxelize(half, 64);
+  RenderSettings ps =
+      settings(test::looking_at_origin({2.5f, 0.05f, 0.1f}, 30.0f), constant_environment(glm::vec3(1)), lambert, 16);
+  test::SphereScene sphere(0.5f);
+  const octree::Octree sphere_tree = test::voxelize(sphere, 64);
+  RenderSettings ss = settings(test::looking_at_origin({0.0f, 0.2f, 1.3f}, 50.0f), stripes(64), mirror, 16);
+  // Eq. 9's bound is conservative: a tau that keeps both under the cap of 256.
+  ps.adaptive.tau = ss.adaptive.tau = 100.0f;
+  for (size_t host = 0; host < 2; ++host) {
+    Hosts planes(plane_tree), spheres(sphere_tree);
+    planes.renderers[host]->render(ps);
+    spheres.renderers[host]->render(ss);
+    const Buffer p = read_buffer(*planes.renderers[host]);
+    const Buffer m = read_buffer(*spheres.renderers[host]);
+    // The pass's coarsest level for a 64 x 64 frame: min(7, bit_width(64) - 1) = 6.
+    const float top = 6.0f;
+    uint32_t plane_pixels = 0, plane_top = 0, sphere_pixels = 0, sphere_finest = 0;
+    std::vector<float> plane_spp, sphere_spp;
+    for (size_t i = 0; i < p.bandwidth.size(); ++i) {
+      if (p.coverage[i] >= 0.999f) {
+        ++plane_pixels;
+        plane_top += p.bandwidth[i].x == top ? 1 : 0;
+        plane_spp.push_back(p.bandwidth[i].y);
+      }
+      if (m.coverage[i] >= 0.999f) {
+        ++sphere_pixels;
+        sphere_finest += m.bandwidth[i].x == 0.0f ? 1 : 0;
+        sphere_spp.push_back(m.bandwidth[i].y);
+      }
+    }
+    ASSERT_GT(plane_pixels, 3000u);
+    ASSERT_GT(sphere_pixels, 800u);
+    std::sort(plane_spp.begin(), plane_spp.end());
+    std::sort(sphere_spp.begin(), sphere_spp.end());
+    const float plane_median = plane_spp[plane_spp.size() / 2], sphere_median = sphere_spp[sphere_spp.size() / 2];
+    const AdaptivePass::Stats& pst = planes.passes[host]->stats();
+    std::printf(
+        "%s: plane %u/%u pixels at level %g (median N_p %g, %llu texels shaded); mirror sphere %u/%u at "
+        "level 0 (median N_p %g)\n",
+        host_name(planes.renderers[host]->host()), plane_top, plane_pixels, top, plane_median,
+        (unsigned long long)pst.shaded, sphere_finest, sphere_pixels, sphere_median);
+    EXPECT_GE(plane_top, 0.9 * plane_pixels);
+    EXPECT_LT(pst.shaded, plane_pixels / 16);
+    EXPECT_GE(sphere_finest, 0.9 * sphere_pixels);
+    EXPECT_LT(plane_median, sphere_median);
+  }
+}
+
+TEST(AdaptivePass, HostsAgree) {
+  test::SphereScene sphere(0.5f);
+  const octree::Octree tree = test::voxelize(sphere, 64);
+  Material glossy;
+  glossy.kind = BrdfKind::Beckmann;
+  glossy.roughness = 0.15f;
+  RenderSettings s = settings(test::looking_at_origin({0.4f, 0.3f, 1.6f}, 45.0f), test::sky(64, 32, false), glossy, 16);
+  s.adaptive.tau = 0.5f;
+  Hosts hosts(tree);
+  const Frame n = hosts.renderers[0]->render(s);
+  const Frame v = hosts.renderers[1]->render(s);
+  const Buffer bn = read_buffer(*hosts.renderers[0]), bv = read_buffer(*hosts.renderers[1]);
+  uint32_t covered = 0, same_level = 0;
+  double sq = 0, ref = 0;
+  for (size_t i = 0; i < n.colour.size(); ++i) {
+    const glm::vec3 d = glm::vec3(n.colour[i]) - glm::vec3(v.colour[i]);
+    sq += glm::dot(d, d);
+    ref += glm::dot(glm::vec3(n.colour[i]), glm::vec3(n.colour[i]));
+    if (bn.coverage[i] > 0) {
+      ++covered;
+      same_level += bn.bandwidth[i].x == bv.bandwidth[i].x ? 1 : 0;
+    }
+  }
+  const double rel = std::sqrt(sq / std::max(ref, 1e-30));
+  std::printf("hosts: relative RMS difference %g, %u/%u pixels at the same level; shaded %llu and %llu texels\n", rel,
+              same_level, covered, (unsigned long long)hosts.passes[0]->stats().shaded,
+              (unsigned long long)hosts.passes[1]->stats().shaded);
+  EXPECT_GT(covered, 500u);
+  EXPECT_GE(same_level, 0.98 * covered);
+  EXPECT_LT(rel, 0.02);
+  EXPECT_TRUE(hosts.renderers[1]->validation_messages().empty());
+}
+
+}  // namespace
+}  // namespace svo::render
