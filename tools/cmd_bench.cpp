@@ -392,6 +392,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
 
   add_bench_lobe_command(*bench, exit_code);
   add_bench_luminaire_command(*bench, exit_code);
+  add_bench_bandwidth_command(*bench, exit_code);
 }
 
 }  // namespace svo::tools

@@ -18,6 +18,8 @@ void add_bench_command(CLI::App& app, int& exit_code);
 void add_bench_zoom_command(CLI::App& bench, int& exit_code);
 // svo bench lobe-filter (cmd_bench_lobe.cpp): Tokuyoshi 2015's figures.
 void add_bench_lobe_command(CLI::App& bench, int& exit_code);
+// svo bench bandwidth (cmd_bench_bandwidth.cpp): Bagher et al. 2013's figures.
+void add_bench_bandwidth_command(CLI::App& bench, int& exit_code);
 // svo bench luminaire (cmd_bench_luminaire.cpp): Lu et al. 2015's figures.
 void add_bench_luminaire_command(CLI::App& bench, int& exit_code);
 void add_compare_command(CLI::App& app, int& exit_code);

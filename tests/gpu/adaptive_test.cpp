@@ -148,12 +148,12 @@ TEST(AdaptivePass, PlaneAtTheCoarsestLevelMirrorAtTheFinest) {
     for (size_t i = 0; i < p.bandwidth.size(); ++i) {
       if (p.coverage[i] >= 0.999f) {
         ++plane_pixels;
-        plane_top += p.bandwidth[i].x == top ? 1 : 0;
+        plane_top += std::floor(p.bandwidth[i].x) == top ? 1 : 0;
         plane_spp.push_back(p.bandwidth[i].y);
       }
       if (m.coverage[i] >= 0.999f) {
         ++sphere_pixels;
-        sphere_finest += m.bandwidth[i].x == 0.0f ? 1 : 0;
+        sphere_finest += std::floor(m.bandwidth[i].x) == 0.0f ? 1 : 0;
         sphere_spp.push_back(m.bandwidth[i].y);
       }
     }
@@ -195,7 +195,7 @@ TEST(AdaptivePass, HostsAgree) {
     ref += glm::dot(glm::vec3(n.colour[i]), glm::vec3(n.colour[i]));
     if (bn.coverage[i] > 0) {
       ++covered;
-      same_level += bn.bandwidth[i].x == bv.bandwidth[i].x ? 1 : 0;
+      same_level += std::floor(bn.bandwidth[i].x) == std::floor(bv.bandwidth[i].x) ? 1 : 0;
     }
   }
   const double rel = std::sqrt(sq / std::max(ref, 1e-30));

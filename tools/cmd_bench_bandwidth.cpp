@@ -1,0 +1,605 @@
+// svo bench bandwidth: Bagher et al. 2013's figures (issue 17) measured on
+// the engine (DESIGN 10.3), each in one run on one machine:
+//   1. the headline (Figs. 11, 14): frame time of adaptive shading against
+//      forward shading at equal relMSE against ground truth, per scene x
+//      material x environment: forward at a sweep of samples per pixel,
+//      adaptive at a sweep of tau (Eq. 9's bound and our measured variance),
+//      the forward time at the adaptive frame's error interpolated log-log;
+//      with the bandwidth buffer's share of the adaptive frame;
+//   2. validation (Fig. 12): the predicted variance against the variance of
+//      the forward estimator measured by brute force, and the predicted
+//      image bandwidth against a windowed FFT (32x32) of the reference;
+//   3. n_b = 16, 64, 256, 1024 (Fig. 13): PSNR and time;
+//   4. what the voxels' slope band-limit saves on the far view (ours).
+// Ground truth is `svo reference` (the source geometry, many samples), or
+// with --truth forward a converged forward frame of the same G-buffer
+// (shading error alone, without the octree's).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <sstream>
+#include <thread>
+
+#include "bench_util.h"
+#include "commands.h"
+#include "progress.h"
+#include "source_options.h"
+#include "svo/reference/compare.h"
+#include "svo/reference/geometry.h"
+#include "svo/reference/reference.h"
+#include "svo/render/bandwidth.h"
+#include "svo/render/camera.h"
+#include "svo/render/image_io.h"
+#include "svo/render/passes.h"
+#include "svo/render/renderer.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/mesh.h"
+#include "view_options.h"
+
+namespace svo::tools {
+
+namespace {
+
+namespace fs = std::filesystem;
+using bench::sci;
+
+struct BandwidthBenchArgs {
+  // Built-in scenes by name, or mesh files.
+  std::vector<std::string> scenes{"bumpy-sphere"};
+  // Material JSON files, or the built-in names diffuse, glossy, mirror.
+  std::vector<std::string> materials{"diffuse", "glossy", "mirror"};
+  std::vector<std::string> envs{"/usr/share/blender/datafiles/studiolights/world/courtyard.exr"};
+  std::string view = "mid";
+  uint32_t resolution = 256;
+  uint32_t size = 512;
+  std::vector<uint32_t> spp{8, 16, 32, 64, 128};
+  std::vector<float> taus{};  // empty: per variance mode, a default sweep
+  std::string truth = "reference";
+  uint32_t truth_spp = 128;
+  uint32_t variance_frames = 32;
+  uint32_t repeats = 2;
+  std::vector<uint32_t> parts{1, 2, 3, 4};
+  std::string out = "bench-bandwidth";
+};
+
+std::string machine_description() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
+}
+
+std::shared_ptr<const render::Material> bench_material(const std::string& name) {
+  auto m = std::make_shared<render::Material>();
+  m->name = name;
+  if (name == "diffuse") {
+    m->kind = render::BrdfKind::Lambert;
+    m->diffuse = glm::vec3(0.8f);
+  } else if (name == "glossy") {
+    m->kind = render::BrdfKind::Ggx;
+    m->roughness = 0.25f;
+    m->diffuse = glm::vec3(0.5f);
+    m->f0 = glm::vec3(0.04f);
+  } else if (name == "mirror") {
+    m->kind = render::BrdfKind::Ggx;
+    m->roughness = 0.03f;
+    m->diffuse = glm::vec3(0.05f);
+    m->f0 = glm::vec3(0.9f, 0.8f, 0.6f);
+  } else {
+    return std::make_shared<const render::Material>(render::load_material(name));
+  }
+  return m;
+}
+
+bool is_builtin_scene(const std::string& s) { return s.find('.') == std::string::npos; }
+
+struct Scene {
+  std::string name;
+  octree::Octree tree;
+  std::unique_ptr<voxelizer::AnalyticScene> analytic;  // kept alive for the reference geometry
+  std::unique_ptr<reference::Geometry> geometry;
+};
+
+Scene load_scene(const std::string& what, uint32_t resolution, ProgressBar& bar) {
+  Scene s;
+  s.name = is_builtin_scene(what) ? what : fs::path(what).stem().string();
+  voxelizer::VoxelizeOptions vo;
+  vo.resolution = resolution;
+  vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + s.name + " " + stage, f); };
+  SourceOptions source;
+  if (is_builtin_scene(what)) {
+    source.scene = what;
+    s.tree = voxelizer::voxelize(*make_scene_source(source, false), vo);
+    s.analytic = make_scene_source(source);
+    s.analytic->set_sigma_rho2(s.tree.sigma_rho2);
+    s.geometry = reference::scene_geometry(*s.analytic);
+  } else {
+    source.input = what;
+    s.tree = voxelizer::voxelize(*voxelizer::mesh_source(read_source_mesh(source)), vo);
+    voxelizer::TriangleMesh mesh = read_source_mesh(source);
+    mesh.sigma_rho2 = s.tree.sigma_rho2;
+    s.geometry = reference::mesh_geometry(std::move(mesh));
+  }
+  return s;
+}
+
+double relmse(const render::Frame& image, const render::Frame& truth) {
+  return reference::compare_images(render::frame_image(image), render::frame_image(truth)).relmse;
+}
+
+double psnr(const render::Frame& image, const render::Frame& truth) {
+  return reference::compare_images(render::frame_image(image), render::frame_image(truth)).psnr;
+}
+
+struct Point {
+  std::string method;  // "forward", "bound", "measured"
+  double knob = 0;     // spp or tau
+  double ms = 0, relmse = 0, bandwidth_ms = 0;
+  uint64_t shaded = 0, samples = 0, covered = 0;
+};
+
+// The median frame time of `repeats` frames (after one to warm the tables).
+template <class F>
+render::Frame timed(F render_frame, uint32_t repeats, double& ms) {
+  render::Frame f = render_frame();
+  std::vector<double> t;
+  for (uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
+    f = render_frame();
+    t.push_back(render::frame_ms(f));
+  }
+  std::sort(t.begin(), t.end());
+  ms = t[t.size() / 2];
+  return f;
+}
+
+// The forward time at `error` on the forward sweep (sorted by spp), log-log
+// between the two points around it; < 0 outside the sweep.
+double forward_ms_at(const std::vector<Point>& forward, double error) {
+  for (size_t i = 1; i < forward.size(); ++i) {
+    const Point &a = forward[i - 1], &b = forward[i];
+    if ((a.relmse - error) * (b.relmse - error) > 0) continue;
+    if (a.relmse == b.relmse) return a.ms;
+    const double t = (std::log(error) - std::log(a.relmse)) / (std::log(b.relmse) - std::log(a.relmse));
+    return std::exp(std::log(a.ms) + t * (std::log(b.ms) - std::log(a.ms)));
+  }
+  return -1;
+}
+
+// Spearman's rank correlation of two samples.
+double rank_correlation(const std::vector<double>& x, const std::vector<double>& y) {
+  auto ranks = [](const std::vector<double>& v) {
+    std::vector<size_t> idx(v.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return v[a] < v[b]; });
+    std::vector<double> r(v.size());
+    for (size_t i = 0; i < idx.size();) {
+      size_t j = i;
+      while (j + 1 < idx.size() && v[idx[j + 1]] == v[idx[i]]) ++j;
+      for (size_t k = i; k <= j; ++k) r[idx[k]] = 0.5 * double(i + j);
+      i = j + 1;
+    }
+    return r;
+  };
+  const auto rx = ranks(x), ry = ranks(y);
+  const double mx = std::accumulate(rx.begin(), rx.end(), 0.0) / double(rx.size());
+  const double my = std::accumulate(ry.begin(), ry.end(), 0.0) / double(ry.size());
+  double sxy = 0, sxx = 0, syy = 0;
+  for (size_t i = 0; i < rx.size(); ++i) {
+    sxy += (rx[i] - mx) * (ry[i] - my);
+    sxx += (rx[i] - mx) * (rx[i] - mx);
+    syy += (ry[i] - my) * (ry[i] - my);
+  }
+  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
+}
+
+// A scalar image in false colour (black to white through the colour map
+// of svo compare --diff) between lo and hi, on a log scale when `log`.
+render::Frame false_colour(const std::vector<float>& v, uint32_t w, uint32_t h, double lo, double hi, bool log) {
+  render::Frame f;
+  f.width = w;
+  f.height = h;
+  f.colour.resize(v.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    double t = log ? (std::log(std::max(double(v[i]), lo)) - std::log(lo)) / (std::log(hi) - std::log(lo))
+                   : (double(v[i]) - lo) / (hi - lo);
+    if (!(v[i] >= 0)) t = 0;  // no surface
+    t = std::clamp(t, 0.0, 1.0);
+    const glm::vec3 c = t < 0.5 ? glm::mix(glm::vec3(0.0f), glm::vec3(0.7f, 0.1f, 0.6f), float(2 * t))
+                                : glm::mix(glm::vec3(0.7f, 0.1f, 0.6f), glm::vec3(1.0f, 0.95f, 0.6f), float(2 * t - 1));
+    f.colour[i] = glm::vec4(c, 1.0f);
+  }
+  return f;
+}
+
+void save_png(const fs::path& path, const render::Frame& f) { render::write_colour(path.string(), f); }
+
+void run_bandwidth_bench(const BandwidthBenchArgs& a) {
+  fs::path dir(a.out);
+  fs::create_directories(dir);
+  render::check_writable_output((dir / "results.csv").string());
+  ProgressBar bar("bench bandwidth");
+  auto wants = [&](uint32_t n) { return std::find(a.parts.begin(), a.parts.end(), n) != a.parts.end(); };
+  std::ofstream md(dir / "table.md"), csv(dir / "results.csv");
+  nlohmann::json json;
+  json["machine"] = machine_description();
+  json["size"] = a.size;
+  json["resolution"] = a.resolution;
+  json["truth"] = a.truth;
+  json["truth_spp"] = a.truth_spp;
+  md << "# svo bench bandwidth (Bagher et al. 2013)\n\nMachine: " << machine_description() << ". Frames " << a.size
+     << "x" << a.size << ", octrees " << a.resolution << "^3, view " << a.view << ", native host; ground truth: "
+     << (a.truth == "reference" ? "svo reference (" + std::to_string(a.truth_spp) + " spp)"
+                                : "forward shading at " + std::to_string(a.truth_spp) + " spp")
+     << ". Times are medians of " << a.repeats << " frames after a warm-up frame.\n\n";
+  csv << "part,scene,material,env,method,knob,ms,relmse,bandwidth_ms,shaded,samples,covered\n";
+
+  for (size_t si = 0; si < a.scenes.size(); ++si) {
+    Scene scene = load_scene(a.scenes[si], a.resolution, bar);
+    auto forward = render::make_renderer(scene.tree, {"native"});
+    forward->add_pass(render::make_pass("forward"));
+    auto adaptive_renderer = render::make_renderer(scene.tree, {"native"});
+    auto pass = std::make_unique<render::AdaptivePass>();
+    render::AdaptivePass* adaptive = pass.get();
+    adaptive_renderer->add_pass(std::move(pass));
+    render::RenderSettings base;
+    base.width = base.height = a.size;
+    base.camera = render::view_preset(scene.tree, a.view);
+    base.lights.clear();
+    base.ambient = glm::vec3(0);
+    for (const std::string& env_path : a.envs) {
+      auto env = std::make_shared<const render::Environment>(render::load_environment(env_path));
+      const std::string env_name = fs::path(env_path).stem().string();
+      for (const std::string& material_name : a.materials) {
+        const auto material = bench_material(material_name);
+        const std::string label = scene.name + " / " + material->name + " / " + env_name;
+        render::RenderSettings s = base;
+        s.shading.environment = env;
+        s.shading.material = material;
+        // Ground truth.
+        bar.update(label + ": ground truth", 0);
+        render::Frame truth;
+        if (a.truth == "reference") {
+          reference::ReferenceSettings rs;
+          rs.render = s;
+          rs.spp = a.truth_spp;
+          rs.progress = [&](double f) { bar.update(label + ": svo reference", f); };
+          truth = reference::render_reference(*scene.geometry, rs);
+        } else {
+          render::RenderSettings t = s;
+          t.shading.spp = a.truth_spp;
+          t.shading.seed = 99;
+          truth = forward->render(t);
+        }
+        save_png(dir / (scene.name + "-" + material->name + "-" + env_name + "-truth.png"), truth);
+        if (!wants(1) && !wants(2) && !wants(3) && !wants(4)) continue;
+        const bool first = &env_path == &a.envs.front() && &material_name == &a.materials.front();
+
+        // Part 1: the headline.
+        std::vector<Point> fwd, ad;
+        if (wants(1)) {
+          for (size_t k = 0; k < a.spp.size(); ++k) {
+            bar.update(label + ": forward " + std::to_string(a.spp[k]) + " spp", double(k) / a.spp.size());
+            render::RenderSettings t = s;
+            t.shading.spp = a.spp[k];
+            Point p{"forward", double(a.spp[k])};
+            const render::Frame f = timed([&] { return forward->render(t); }, a.repeats, p.ms);
+            p.relmse = relmse(f, truth);
+            fwd.push_back(p);
+          }
+          for (const bool measured : {false, true}) {
+            std::vector<float> taus = a.taus;
+            if (taus.empty()) {
+              taus = measured ? std::vector<float>{0.003f, 0.01f, 0.03f} : std::vector<float>{10.0f, 30.0f, 100.0f};
+            }
+            for (size_t k = 0; k < taus.size(); ++k) {
+              bar.update(label + ": adaptive tau " + sci(taus[k]), double(k) / taus.size());
+              render::RenderSettings t = s;
+              t.adaptive.tau = taus[k];
+              t.adaptive.measured_variance = measured;
+              Point p{measured ? "measured" : "bound", taus[k]};
+              const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, p.ms);
+              p.relmse = relmse(f, truth);
+              const auto& st = adaptive->stats();
+              p.bandwidth_ms = st.bandwidth_ms;
+              p.shaded = st.shaded;
+              p.samples = st.samples;
+              p.covered = st.covered;
+              ad.push_back(p);
+              if (first && measured && k == 1) {
+                save_png(dir / (scene.name + "-adaptive.png"), f);
+              }
+            }
+          }
+          for (const Point& p : fwd)
+            csv << "1," << scene.name << "," << material->name << "," << env_name << "," << p.method << "," << p.knob
+                << "," << p.ms << "," << p.relmse << ",,,,\n";
+          for (const Point& p : ad)
+            csv << "1," << scene.name << "," << material->name << "," << env_name << "," << p.method << "," << p.knob
+                << "," << p.ms << "," << p.relmse << "," << p.bandwidth_ms << "," << p.shaded << "," << p.samples << ","
+                << p.covered << "\n";
+          // The best speed-up at equal error per variance mode.
+          nlohmann::json row{{"scene", scene.name}, {"material", material->name}, {"env", env_name}};
+          md << "### " << label << "\n\n| method | spp or tau | ms | relMSE | forward ms at that relMSE | speed-up | "
+             << "bandwidth share | shaded texels / covered pixels | samples / covered pixel |\n|---|---|---|---|---|---|"
+                "---|---|---|\n";
+          for (const Point& p : fwd)
+            md << "| forward | " << p.knob << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse)
+               << " | | | | 1 | " << p.knob << " |\n";
+          double best_bound = 0, best_measured = 0;
+          for (const Point& p : ad) {
+            const double at = forward_ms_at(fwd, p.relmse);
+            const double speedup = at > 0 ? at / p.ms : 0;
+            (p.method == "bound" ? best_bound : best_measured) =
+                std::max(p.method == "bound" ? best_bound : best_measured, speedup);
+            md << "| adaptive (" << p.method << ") | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | "
+               << sci(p.relmse) << " | " << (at > 0 ? bench::fmt(at, 0) : "outside the sweep") << " | "
+               << (at > 0 ? bench::fmt(speedup, 2) + "x" : "-") << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1)
+               << "% | " << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
+               << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1) << " |\n";
+          }
+          md << "\nBest speed-up at equal relMSE: " << bench::fmt(best_bound, 2) << "x (Eq. 9's bound), "
+             << bench::fmt(best_measured, 2) << "x (measured variance); 0 where no adaptive frame fell within the "
+             << "forward sweep's errors.\n\n";
+          row["best_speedup_bound"] = best_bound;
+          row["best_speedup_measured"] = best_measured;
+          row["forward"] = nlohmann::json::array();
+          for (const Point& p : fwd) row["forward"].push_back({{"spp", p.knob}, {"ms", p.ms}, {"relmse", p.relmse}});
+          row["adaptive"] = nlohmann::json::array();
+          for (const Point& p : ad)
+            row["adaptive"].push_back({{"variance", p.method},
+                                       {"tau", p.knob},
+                                       {"ms", p.ms},
+                                       {"relmse", p.relmse},
+                                       {"bandwidth_ms", p.bandwidth_ms},
+                                       {"shaded", p.shaded},
+                                       {"samples", p.samples},
+                                       {"covered", p.covered}});
+          json["headline"].push_back(row);
+          md.flush();
+          csv.flush();
+        }
+        // Parts 2-4: the first material and map of the first scene.
+        if (!first || si != 0) continue;
+
+        // Part 2: validation (Fig. 12) and the images of Fig. 1b-d.
+        if (wants(2)) {
+          bar.update(label + ": validation", 0);
+          render::RenderSettings t = s;
+          t.adaptive.tau = 30.0f;
+          const render::Frame result = adaptive_renderer->render(t);
+          render::FrameImages& images = adaptive_renderer->images();
+          const auto bw = images.texels<glm::vec4>(images.read(render::AdaptivePass::bandwidth_image()));
+          const auto mask = images.texels<glm::vec4>(images.read(render::AdaptivePass::mask_image()));
+          const auto g = images.texels<glm::vec4>(images.read(render::gbuffer_image()));
+          const size_t n = size_t(a.size) * a.size;
+          std::vector<float> level(n), spp(n), shaded(n), predicted(n), bp(n);
+          std::vector<float> coverage(n);
+          for (size_t i = 0; i < n; ++i) {
+            coverage[i] = g[render::kGBufferVec4s * i + 1].w;
+            const bool covered = coverage[i] > 0;
+            level[i] = covered ? bw[i].x : -1;
+            spp[i] = covered ? bw[i].y : -1;
+            shaded[i] = mask[i].x;
+            bp[i] = covered ? float(0.5 * std::exp2(-double(bw[i].x))) : -1;
+          }
+          save_png(dir / "fig1b-level.png", false_colour(level, a.size, a.size, 0, 7, false));
+          save_png(dir / "fig1c-samples.png", false_colour(spp, a.size, a.size, 1, 256, true));
+          {
+            std::vector<float> m(n);
+            for (size_t i = 0; i < n; ++i) m[i] = shaded[i] < 0 ? -1 : 1.0f - shaded[i] / 7.0f;
+            save_png(dir / "fig1d-shaded.png", false_colour(m, a.size, a.size, 0, 1, false));
+          }
+          // The forward estimator's variance per pixel at 1 spp, by brute
+          // force over independent frames, against Eq. 9's prediction for one
+          // sample (bandwidth z times (L + 0.01)^2; a forward sample draws two
+          // directions, the bound's uniform sampling one: both per sample).
+          std::vector<double> sum(n, 0), sum2(n, 0);
+          render::RenderSettings one = s;
+          one.shading.spp = 1;
+          for (uint32_t k = 0; k < a.variance_frames; ++k) {
+            bar.update(label + ": brute-force variance", double(k) / a.variance_frames);
+            one.shading.seed = 1000 + k;
+            const render::Frame f = forward->render(one);
+            for (size_t i = 0; i < n; ++i) {
+              const double y = 0.2126 * f.colour[i].r + 0.7152 * f.colour[i].g + 0.0722 * f.colour[i].b;
+              sum[i] += y;
+              sum2[i] += y * y;
+            }
+          }
+          std::vector<float> measured(n, -1), pred(n, -1);
+          std::vector<double> ratio;
+          uint32_t conservative = 0, counted = 0;
+          for (size_t i = 0; i < n; ++i) {
+            if (!(coverage[i] >= 0.999f)) continue;
+            const double mean = sum[i] / a.variance_frames;
+            const double var = std::max(sum2[i] / a.variance_frames - mean * mean, 0.0) * a.variance_frames /
+                               std::max(a.variance_frames - 1.0, 1.0);
+            const double p = double(bw[i].z) * (mean + 0.01) * (mean + 0.01);
+            measured[i] = float(var);
+            pred[i] = float(p);
+            ++counted;
+            conservative += p >= var ? 1 : 0;
+            if (var > 0) ratio.push_back(p / var);
+          }
+          std::sort(ratio.begin(), ratio.end());
+          const double median_over = ratio.empty() ? 0 : ratio[ratio.size() / 2];
+          double vmax = 1e-12;
+          for (float v : measured) vmax = std::max(vmax, double(v));
+          save_png(dir / "fig12a-predicted-variance.png", false_colour(pred, a.size, a.size, vmax * 1e-4, vmax, true));
+          save_png(dir / "fig12b-measured-variance.png",
+                   false_colour(measured, a.size, a.size, vmax * 1e-4, vmax, true));
+          // Bandwidth: the prediction against a windowed FFT of the truth's luminance.
+          std::vector<float> lum(n);
+          for (size_t i = 0; i < n; ++i)
+            lum[i] = 0.2126f * truth.colour[i].r + 0.7152f * truth.colour[i].g + 0.0722f * truth.colour[i].b;
+          const std::vector<float> fft = render::windowed_fft_bandwidth(lum, a.size, a.size, 32, 8);
+          std::vector<double> xs, ys;
+          std::vector<float> fft_shown(n, -1);
+          for (size_t i = 0; i < n; ++i) {
+            if (!(coverage[i] >= 0.999f)) continue;
+            fft_shown[i] = fft[i];
+            xs.push_back(bp[i]);
+            ys.push_back(fft[i]);
+          }
+          const double rho = rank_correlation(xs, ys);
+          save_png(dir / "fig12c-predicted-bandwidth.png", false_colour(bp, a.size, a.size, 1e-3, 0.5, true));
+          save_png(dir / "fig12d-fft-bandwidth.png", false_colour(fft_shown, a.size, a.size, 1e-3, 0.5, true));
+          save_png(dir / "fig12e-result.png", result);
+          std::vector<float> err(n, -1);
+          for (size_t i = 0; i < n; ++i) {
+            const glm::vec3 d = glm::vec3(result.colour[i]) - glm::vec3(truth.colour[i]);
+            const double r = glm::dot(d, d) / 3.0;
+            const double b = (0.2126 * truth.colour[i].r + 0.7152 * truth.colour[i].g + 0.0722 * truth.colour[i].b);
+            err[i] = float(r / ((b + 0.01) * (b + 0.01)));
+          }
+          save_png(dir / "fig12f-relative-error.png", false_colour(err, a.size, a.size, 1e-5, 1, true));
+          md << "## Validation (Fig. 12): " << label << "\n\nEq. 9's predicted variance of one sample against the "
+             << "forward estimator's at 1 spp measured over " << a.variance_frames << " frames, on "
+             << counted << " fully covered pixels: conservative on " << bench::fmt(100.0 * conservative / counted, 1)
+             << "%, median over-estimate " << sci(median_over) << "x. Predicted image bandwidth b_p against a "
+             << "windowed FFT (32x32, Hann) of the ground truth: Spearman rank correlation " << bench::fmt(rho, 3)
+             << ". Images: fig12a-f, fig1b-d.\n\n";
+          json["validation"] = {{"label", label},
+                                {"conservative_share", double(conservative) / counted},
+                                {"median_overestimate", median_over},
+                                {"rank_correlation", rho},
+                                {"pixels", counted}};
+          md.flush();
+        }
+
+        // Part 3: n_b (Fig. 13).
+        if (wants(3)) {
+          md << "## n_b (Fig. 13): " << label << ", tau 30 (bound)\n\n| n_b | ms | bandwidth ms | PSNR | relMSE |\n"
+             << "|---|---|---|---|---|\n";
+          for (uint32_t nb : {16u, 64u, 256u, 1024u}) {
+            bar.update(label + ": n_b " + std::to_string(nb), 0);
+            render::RenderSettings t = s;
+            t.adaptive.tau = 30.0f;
+            t.adaptive.directions = nb;
+            double ms = 0;
+            const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, ms);
+            const double bms = adaptive->stats().bandwidth_ms;
+            md << "| " << nb << " | " << bench::fmt(ms, 0) << " | " << bench::fmt(bms, 0) << " | "
+               << bench::fmt(psnr(f, truth), 2) << " | " << sci(relmse(f, truth)) << " |\n";
+            json["n_b"].push_back({{"n_b", nb}, {"ms", ms}, {"bandwidth_ms", bms}, {"psnr", psnr(f, truth)}});
+          }
+          md << "\n";
+          md.flush();
+        }
+
+        // Part 4: the slope band-limit on the far view.
+        if (wants(4)) {
+          md << "## The voxels' slope band-limit (ours): " << scene.name << " / " << material->name << " / "
+             << env_name << ", view far, tau 30 (bound)\n\n| slope limit | ms | shaded texels | samples | relMSE |\n"
+             << "|---|---|---|---|---|\n";
+          render::RenderSettings t = s;
+          t.camera = render::view_preset(scene.tree, "far");
+          t.adaptive.tau = 30.0f;
+          reference::ReferenceSettings rs;
+          rs.render = t;
+          rs.spp = a.truth_spp;
+          render::Frame far_truth;
+          if (a.truth == "reference") {
+            rs.progress = [&](double f) { bar.update(label + ": far view reference", f); };
+            far_truth = reference::render_reference(*scene.geometry, rs);
+          } else {
+            render::RenderSettings u = t;
+            u.shading.spp = a.truth_spp;
+            far_truth = forward->render(u);
+          }
+          for (bool limit : {false, true}) {
+            t.adaptive.slope_limit = limit;
+            double ms = 0;
+            const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, ms);
+            const auto& st = adaptive->stats();
+            md << "| " << (limit ? "on" : "off") << " | " << bench::fmt(ms, 0) << " | " << st.shaded << " | "
+               << st.samples << " | " << sci(relmse(f, far_truth)) << " |\n";
+            json["slope_limit"].push_back({{"on", limit},
+                                           {"ms", ms},
+                                           {"shaded", st.shaded},
+                                           {"samples", st.samples},
+                                           {"relmse", relmse(f, far_truth)}});
+          }
+          md << "\n";
+          md.flush();
+        }
+      }
+    }
+  }
+  std::ofstream(dir / "results.json") << json.dump(1) << "\n";
+  bar.finish();
+  std::cout << "bench bandwidth: " << (dir / "table.md").string() << ", results.csv, results.json, images\n";
+}
+
+}  // namespace
+
+void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
+  auto a = std::make_shared<BandwidthBenchArgs>();
+  CLI::App* cmd = bench.add_subcommand(
+      "bandwidth",
+      "Bagher et al. 2013's figures on the engine: adaptive against forward shading at equal relMSE against ground "
+      "truth (Figs. 11, 14) with the bandwidth buffer's share, validation of the predicted variance and bandwidth "
+      "(Fig. 12, images of Fig. 1b-d), n_b (Fig. 13) and the voxels' slope band-limit; writes table.md, "
+      "results.csv, results.json and images to --out");
+  cmd->add_option("--scenes", a->scenes, "Built-in scenes or mesh files (OFF, OBJ, PLY, ...)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--materials", a->materials, "diffuse, glossy (GGX 0.25), mirror (GGX 0.03), or material JSON files")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--envs", a->envs, "Environment maps (EXR or HDR)")->delimiter(',')->capture_default_str();
+  cmd->add_option("--view", a->view, "far, mid, close")->capture_default_str();
+  cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis of the octrees")
+      ->capture_default_str()
+      ->check(CLI::Range(16u, 2048u));
+  cmd->add_option("--size", a->size, "Image width and height, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(16u, 4096u));
+  cmd->add_option("--spp", a->spp, "Part 1: the forward sweep, samples per pixel")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 65536u));
+  cmd->add_option("--taus", a->taus,
+                  "Part 1: the adaptive sweep's tau (default: 10, 30, 100 with Eq. 9's bound; 0.003, 0.01, 0.03 with "
+                  "the measured variance)")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-9f, 1e9f));
+  cmd->add_option("--truth", a->truth,
+                  "reference (svo reference on the source) or forward (converged forward shading: the shading's "
+                  "error alone)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"reference", "forward"}));
+  cmd->add_option("--truth-spp", a->truth_spp, "Samples per pixel of the ground truth")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 65536u));
+  cmd->add_option("--variance-frames", a->variance_frames, "Part 2: frames of the brute-force variance")
+      ->capture_default_str()
+      ->check(CLI::Range(2u, 4096u));
+  cmd->add_option("--repeats", a->repeats, "Frames per timing after a warm-up; the median is reported")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100u));
+  cmd->add_option("--parts", a->parts,
+                  "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit); parts "
+                  "2-4 run on the first scene's first material and map")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4u));
+  cmd->add_option("-o,--out", a->out, "Output directory (created)")->capture_default_str();
+  cmd->callback([a, &exit_code] {
+    run_bandwidth_bench(*a);
+    exit_code = 0;
+  });
+}
+
+}  // namespace svo::tools
