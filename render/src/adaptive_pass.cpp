@@ -115,7 +115,7 @@ void count_stats(const glm::vec4* pyramid, const glm::vec4* bandwidth, const glm
   for (std::size_t i = 0; i < pixels; ++i) {
     if (!(gbuffer[kGBufferVec4s * i + 1].w > 0)) continue;
     ++stats.covered;
-    ++stats.pixels_at_level[std::min(uint32_t(bandwidth[i].x + 0.5f), 7u)];
+    ++stats.pixels_at_level[std::min(uint32_t(bandwidth[i].x), 7u)];
   }
 }
 

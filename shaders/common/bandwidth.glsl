@@ -87,7 +87,7 @@ SVO_FN float svo_bw_texture(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoGBuff
 
 // The bandwidth buffer's texel (section 3.1) for G-buffer texel `pixel`
 // and its four neighbours: x the level at which it may be shaded (Eq. 6,
-// 11), y its sample count N_p (Eq. 9: the variance bound over n_b
+// 11, unfloored: log2(1 / (2 b_p)) within [0, coarsest]), y its sample count N_p (Eq. 9: the variance bound over n_b
 // directions, or with SVO_ADAPTIVE_MEASURED their sample variance halved (a
 // forward sample draws two directions), aiming at tau (L + 0.01)^2, the per-pixel relMSE of svo
 // compare), z that bound for one sample relative to (L + 0.01)^2 (L the
@@ -175,7 +175,9 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
   float b_p = svo_bw_image(nu_a, pixel_angle);
   // Nyquist: the image must be sampled at twice its bandwidth, 2 b_p (the
   // spectrum spans [-b_p, b_p]); Eq. 11 of that rate.
-  uint level = svo_bw_level(2.0f * b_p, coarsest);
+  // x holds log2(1 / (2 b_p)) within [0, coarsest], unfloored, so that b_p
+  // can be read back; its floor is svo_bw_level's (readers floor it).
+  float level = b_p > 0.0f ? clamp(log2(0.5f / b_p), 0.0f, float(coarsest)) : float(coarsest);
   float norm = (sum_lambda + 0.01f) * (sum_lambda + 0.01f);
   float rel = 4.0f * SVO_PI * SVO_PI * sum_var / norm;
   if ((adapt.config.z & SVO_ADAPTIVE_MEASURED) != 0u) {
@@ -185,7 +187,7 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
     rel = 0.5f * max(sum_x2 / float(nb) - mean * mean, 0.0f) / norm;
   }
   float np = clamp(ceil(rel / max(adapt.quality.x, 1.0e-12f)), max(adapt.quality.z, 1.0f), float(adapt.config.y));
-  return vec4(float(level), np, rel, curvature * pixel_angle * g.depth);
+  return vec4(level, np, rel, curvature * pixel_angle * g.depth);
 }
 
 // The bandwidth buffer's texel of a pixel of coverage `coverage` from the
@@ -279,7 +281,7 @@ SVO_FN vec4 svo_adaptive_level_texel(uvec2 q, uint level) {
   SvoGBuffer g = svo_adaptive_gbuffer(pixel);
   if (!(g.coverage > 0.0f)) return vec4(0.0f, 0.0f, 0.0f, SVO_ADAPTIVE_EMPTY);
   vec4 bw = svo_adaptive_bandwidth(level, q);
-  uint r = uint(bw.x + 0.5f);
+  uint r = uint(bw.x);
   if (r < level) return vec4(0.0f, 0.0f, 0.0f, SVO_ADAPTIVE_PENDING);
   if (r > level && level < adapt.config.w) {
     SvoShadingPoint p = svo_shading_point(g);

@@ -126,7 +126,7 @@ class LuminairePass : public Pass {
 // each texel shaded with its own sample count or upsampled from the coarser
 // level. Reads "gbuffer" and "background"; writes "colour" (as the forward
 // pass composes it), "bandwidth" (Rgba32f, SVO_ADAPTIVE_LEVELS levels: the
-// level min-filtered, N_p, the relative variance bound and the screen-space
+// level min-filtered (unfloored: log2(1 / (2 b_p)) within [0, coarsest]), N_p, the relative variance bound and the screen-space
 // curvature max-filtered), "adaptive" (Rgba32f, the same levels: the
 // surface's radiance and the texel's state, SVO_ADAPTIVE_*) and
 // "adaptive_mask" (Rgba32f: the level each pixel was shaded at, -1 for
