@@ -11,8 +11,10 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "svo/reference/compare.h"
 #include "svo/reference/material.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
@@ -23,6 +25,24 @@ inline std::string fmt(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
+}
+
+// The CPU's model name and thread count, for the tables.
+inline std::string machine_description() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
+}
+
+// relMSE of a frame against the truth, as svo compare measures it.
+inline double relmse(const render::Frame& image, const render::Frame& truth) {
+  return reference::compare_images(render::frame_image(image), render::frame_image(truth)).relmse;
 }
 
 inline std::string sci(double v) {

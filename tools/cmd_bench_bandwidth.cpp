@@ -47,6 +47,8 @@ namespace svo::tools {
 namespace {
 
 namespace fs = std::filesystem;
+using bench::machine_description;
+using bench::relmse;
 using bench::sci;
 
 struct BandwidthBenchArgs {
@@ -67,18 +69,6 @@ struct BandwidthBenchArgs {
   std::vector<uint32_t> parts{1, 2, 3, 4};
   std::string out = "bench-bandwidth";
 };
-
-std::string machine_description() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(cpuinfo, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
-}
 
 std::shared_ptr<const render::Material> bench_material(const std::string& name) {
   auto m = std::make_shared<render::Material>();
@@ -132,10 +122,6 @@ Scene load_scene(const std::string& what, uint32_t resolution, ProgressBar& bar)
     s.geometry = reference::mesh_geometry(std::move(mesh));
   }
   return s;
-}
-
-double relmse(const render::Frame& image, const render::Frame& truth) {
-  return reference::compare_images(render::frame_image(image), render::frame_image(truth)).relmse;
 }
 
 double psnr(const render::Frame& image, const render::Frame& truth) {
@@ -331,11 +317,12 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           // The best speed-up at equal error per variance mode.
           nlohmann::json row{{"scene", scene.name}, {"material", material->name}, {"env", env_name}};
           md << "### " << label << "\n\n| method | spp or tau | ms | relMSE | forward ms at that relMSE | speed-up | "
-             << "bandwidth share | shaded texels / covered pixels | samples / covered pixel |\n|---|---|---|---|---|---|"
+             << "bandwidth share | shaded texels / covered pixels | samples / covered pixel "
+                "|\n|---|---|---|---|---|---|"
                 "---|---|---|\n";
           for (const Point& p : fwd)
-            md << "| forward | " << p.knob << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse)
-               << " | | | | 1 | " << p.knob << " |\n";
+            md << "| forward | " << p.knob << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse) << " | | | | 1 | "
+               << p.knob << " |\n";
           double best_bound = 0, best_measured = 0;
           for (const Point& p : ad) {
             const double at = forward_ms_at(fwd, p.relmse);
@@ -465,8 +452,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           }
           save_png(dir / "fig12f-relative-error.png", false_colour(err, a.size, a.size, 1e-5, 1, true));
           md << "## Validation (Fig. 12): " << label << "\n\nEq. 9's predicted variance of one sample against the "
-             << "forward estimator's at 1 spp measured over " << a.variance_frames << " frames, on "
-             << counted << " fully covered pixels: conservative on " << bench::fmt(100.0 * conservative / counted, 1)
+             << "forward estimator's at 1 spp measured over " << a.variance_frames << " frames, on " << counted
+             << " fully covered pixels: conservative on " << bench::fmt(100.0 * conservative / counted, 1)
              << "%, median over-estimate " << sci(median_over) << "x. Predicted image bandwidth b_p against a "
              << "windowed FFT (32x32, Hann) of the ground truth: Spearman rank correlation " << bench::fmt(rho, 3)
              << ". Images: fig12a-f, fig1b-d.\n\n";
@@ -500,8 +487,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
 
         // Part 4: the slope band-limit on the far view.
         if (wants(4)) {
-          md << "## The voxels' slope band-limit (ours): " << scene.name << " / " << material->name << " / "
-             << env_name << ", view far, tau 30 (bound)\n\n| slope limit | ms | shaded texels | samples | relMSE |\n"
+          md << "## The voxels' slope band-limit (ours): " << scene.name << " / " << material->name << " / " << env_name
+             << ", view far, tau 30 (bound)\n\n| slope limit | ms | shaded texels | samples | relMSE |\n"
              << "|---|---|---|---|---|\n";
           render::RenderSettings t = s;
           t.camera = render::view_preset(scene.tree, "far");

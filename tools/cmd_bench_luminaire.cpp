@@ -43,6 +43,8 @@ namespace svo::tools {
 namespace {
 
 namespace fs = std::filesystem;
+using bench::machine_description;
+using bench::relmse;
 using bench::sci;
 
 struct LuminaireBenchArgs {
@@ -88,23 +90,6 @@ double mean_lab_error(const render::Frame& image, const render::Frame& reference
   for (size_t i = 0; i < image.colour.size(); ++i)
     sum += glm::length(lab(tone(image.colour[i])) - lab(tone(reference.colour[i])));
   return sum / double(image.colour.size());
-}
-
-// The CPU's model name and thread count, for the tables.
-std::string machine_description() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(cpuinfo, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
-}
-
-double relmse(const render::Frame& image, const render::Frame& reference) {
-  return reference::compare_images(render::frame_image(image), render::frame_image(reference)).relmse;
 }
 
 double pass_ms(const render::Frame& f, const std::string& name) {
