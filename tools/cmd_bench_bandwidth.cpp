@@ -326,18 +326,23 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           double best_bound = 0, best_measured = 0;
           for (const Point& p : ad) {
             const double at = forward_ms_at(fwd, p.relmse);
-            const double speedup = at > 0 ? at / p.ms : 0;
+            // Below the sweep's smallest error: at least the slowest forward
+            // frame's time over this one's (a lower bound, marked ">=").
+            const bool beyond = at < 0 && !fwd.empty() && p.relmse < fwd.back().relmse;
+            const double speedup = at > 0 ? at / p.ms : beyond ? fwd.back().ms / p.ms : 0;
             (p.method == "bound" ? best_bound : best_measured) =
                 std::max(p.method == "bound" ? best_bound : best_measured, speedup);
             md << "| adaptive (" << p.method << ") | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | "
-               << sci(p.relmse) << " | " << (at > 0 ? bench::fmt(at, 0) : "outside the sweep") << " | "
-               << (at > 0 ? bench::fmt(speedup, 2) + "x" : "-") << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1)
+               << sci(p.relmse) << " | "
+               << (at > 0 ? bench::fmt(at, 0) : beyond ? "below the sweep's best" : "outside the sweep") << " | "
+               << (at > 0 ? bench::fmt(speedup, 2) + "x" : beyond ? ">= " + bench::fmt(speedup, 2) + "x" : "-") << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1)
                << "% | " << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
                << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1) << " |\n";
           }
           md << "\nBest speed-up at equal relMSE: " << bench::fmt(best_bound, 2) << "x (Eq. 9's bound), "
-             << bench::fmt(best_measured, 2) << "x (measured variance); 0 where no adaptive frame fell within the "
-             << "forward sweep's errors.\n\n";
+             << bench::fmt(best_measured, 2) << "x (measured variance); a frame below the forward sweep's smallest "
+             << "error counts as the slowest forward frame's time over its own (a lower bound); 0: no frame within "
+             << "the sweep.\n\n";
           row["best_speedup_bound"] = best_bound;
           row["best_speedup_measured"] = best_measured;
           row["forward"] = nlohmann::json::array();
@@ -421,9 +426,12 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           }
           std::sort(ratio.begin(), ratio.end());
           const double median_over = ratio.empty() ? 0 : ratio[ratio.size() / 2];
-          double vmax = 1e-12;
+          // Each on its own log scale (the bound is hundreds of times the
+          // truth): four decades below its largest value.
+          double vmax = 1e-12, pmax = 1e-12;
           for (float v : measured) vmax = std::max(vmax, double(v));
-          save_png(dir / "fig12a-predicted-variance.png", false_colour(pred, a.size, a.size, vmax * 1e-4, vmax, true));
+          for (float v : pred) pmax = std::max(pmax, double(v));
+          save_png(dir / "fig12a-predicted-variance.png", false_colour(pred, a.size, a.size, pmax * 1e-4, pmax, true));
           save_png(dir / "fig12b-measured-variance.png",
                    false_colour(measured, a.size, a.size, vmax * 1e-4, vmax, true));
           // Bandwidth: the prediction against a windowed FFT of the truth's luminance.

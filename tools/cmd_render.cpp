@@ -61,6 +61,21 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
 }
 
+// What the adaptive pass did in the last frame, for --json.
+nlohmann::json adaptive_json(const render::AdaptivePass::Stats& st, const render::AdaptiveOptions& o) {
+  return {{"shaded_texels", st.shaded},
+          {"samples", st.samples},
+          {"covered_pixels", st.covered},
+          {"pixels_at_level", st.pixels_at_level},
+          {"shaded_at_level", st.shaded_at_level},
+          {"tables_ms", st.tables_ms},
+          {"bandwidth_ms", st.bandwidth_ms},
+          {"shading_ms", st.shading_ms},
+          {"tau", o.tau},
+          {"variance", o.measured_variance ? "measured" : "bound"},
+          {"directions", o.directions}};
+}
+
 }  // namespace
 
 void add_render_command(CLI::App& app, int& exit_code) {
@@ -340,73 +355,63 @@ void add_render_command(CLI::App& app, int& exit_code) {
     for (const auto& p : frame.passes)
       passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
     if (a->json) {
-      nlohmann::json out{
-          {"file", a->input},
-          {"output", a->output},
-          {"width", frame.width},
-          {"height", frame.height},
-          {"mode", render::mode_name(*mode)},
-          {"spp", forward ? settings.shading.spp : rays},
-          {"shading", adaptive  ? "adaptive"
-                      : forward ? "forward"
-                                : "tracer"},
-          {"adaptive", adaptive_pass ? nlohmann::json{{"shaded_texels", adaptive_pass->stats().shaded},
-                                                      {"samples", adaptive_pass->stats().samples},
-                                                      {"covered_pixels", adaptive_pass->stats().covered},
-                                                      {"pixels_at_level", adaptive_pass->stats().pixels_at_level},
-                                                      {"shaded_at_level", adaptive_pass->stats().shaded_at_level},
-                                                      {"tables_ms", adaptive_pass->stats().tables_ms},
-                                                      {"bandwidth_ms", adaptive_pass->stats().bandwidth_ms},
-                                                      {"shading_ms", adaptive_pass->stats().shading_ms},
-                                                      {"tau", settings.adaptive.tau},
-                                                      {"directions", settings.adaptive.directions}}
-                                     : nlohmann::json(nullptr)},
-          {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
-                                                             {"beta", settings.filter.beta},
-                                                             {"sigma_n2", settings.filter.sigma_n2},
-                                                             {"radius", settings.filter.radius},
-                                                             {"upsample", a->filter.upsample}}
-                                            : nlohmann::json(nullptr)},
-          {"luminaires", settings.luminaire.luminaires.empty()
-                             ? nlohmann::json(nullptr)
-                             : nlohmann::json{{"files", a->luminaires.files},
-                                              {"sampler", a->luminaires.sampler},
-                                              {"spp", settings.luminaire.spp},
-                                              {"kmax", settings.luminaire.kmax},
-                                              {"visibility", a->luminaires.visibility},
-                                              {"search", a->luminaires.search},
-                                              {"sequence", a->luminaires.sequence}}},
-          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
-          {"material", settings.shading.material
-                           ? nlohmann::json::parse(render::material_json(*settings.shading.material))
-                           : nlohmann::json(nullptr)},
-          {"view", view_name},
-          {"device", renderer->device_name()},
-          {"device_type", renderer->device_type()},
-          {"host", render::host_name(renderer->host())},
-          {"ms", ms},
-          {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
-          {"repeats", a->repeats},
-          {"ms_each", times},
-          {"passes", passes},
-          {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
-          {"wall_ms", frame.wall_ms},
-          {"load_ms", load_ms},
-          {"setup_ms", setup_ms},
-          {"covered_pixels", frame.covered_pixels},
-          {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
-          {"steps_per_pixel", frame.steps_per_pixel},
-          {"shadows", settings.shadows},
-          {"footprint_spread", settings.footprint_spread},
-          {"curved_masks", settings.curved_masks},
-          {"front_facing", settings.front_facing},
-          {"element_normals", settings.element_normals},
-          {"covered_part", settings.covered_part},
-          {"shading_voxel", settings.shading_voxel},
-          {"lights", lights_json(settings.lights)},
-          {"camera", camera_json(settings.camera)},
-          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
-          {"validation_messages", messages}};
+      nlohmann::json out{{"file", a->input},
+                         {"output", a->output},
+                         {"width", frame.width},
+                         {"height", frame.height},
+                         {"mode", render::mode_name(*mode)},
+                         {"spp", forward ? settings.shading.spp : rays},
+                         {"shading", adaptive  ? "adaptive"
+                                     : forward ? "forward"
+                                               : "tracer"},
+                         {"adaptive", adaptive_pass ? adaptive_json(adaptive_pass->stats(), settings.adaptive)
+                                                    : nlohmann::json(nullptr)},
+                         {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
+                                                                            {"beta", settings.filter.beta},
+                                                                            {"sigma_n2", settings.filter.sigma_n2},
+                                                                            {"radius", settings.filter.radius},
+                                                                            {"upsample", a->filter.upsample}}
+                                                           : nlohmann::json(nullptr)},
+                         {"luminaires", settings.luminaire.luminaires.empty()
+                                            ? nlohmann::json(nullptr)
+                                            : nlohmann::json{{"files", a->luminaires.files},
+                                                             {"sampler", a->luminaires.sampler},
+                                                             {"spp", settings.luminaire.spp},
+                                                             {"kmax", settings.luminaire.kmax},
+                                                             {"visibility", a->luminaires.visibility},
+                                                             {"search", a->luminaires.search},
+                                                             {"sequence", a->luminaires.sequence}}},
+                         {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
+                         {"material", settings.shading.material
+                                          ? nlohmann::json::parse(render::material_json(*settings.shading.material))
+                                          : nlohmann::json(nullptr)},
+                         {"view", view_name},
+                         {"device", renderer->device_name()},
+                         {"device_type", renderer->device_type()},
+                         {"host", render::host_name(renderer->host())},
+                         {"ms", ms},
+                         {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
+                         {"repeats", a->repeats},
+                         {"ms_each", times},
+                         {"passes", passes},
+                         {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
+                         {"wall_ms", frame.wall_ms},
+                         {"load_ms", load_ms},
+                         {"setup_ms", setup_ms},
+                         {"covered_pixels", frame.covered_pixels},
+                         {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
+                         {"steps_per_pixel", frame.steps_per_pixel},
+                         {"shadows", settings.shadows},
+                         {"footprint_spread", settings.footprint_spread},
+                         {"curved_masks", settings.curved_masks},
+                         {"front_facing", settings.front_facing},
+                         {"element_normals", settings.element_normals},
+                         {"covered_part", settings.covered_part},
+                         {"shading_voxel", settings.shading_voxel},
+                         {"lights", lights_json(settings.lights)},
+                         {"camera", camera_json(settings.camera)},
+                         {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
+                         {"validation_messages", messages}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->output << ": " << frame.width << "x"
