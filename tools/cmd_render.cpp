@@ -245,14 +245,15 @@ void add_render_command(CLI::App& app, int& exit_code) {
     }
     // The frame on the host: colour (16 bytes a pixel), steps (4), the
     // file's copy (up to 16), the G-buffer and its file's copy (2 x 48), the
-    // steps image's copy (4).
+    // steps image's copy (4), the adaptive pass's images.
     {
       const double pixels = double(a->view.width) * double(a->view.height);
       const bool gbuffer = !a->gbuffer.empty() ||
                            std::any_of(aovs.begin(), aovs.end(), [](const auto& x) { return x.first == "gbuffer"; });
       const double mib =
           pixels *
-          (16 + 16 + 4 + 16 + (gbuffer ? 2 * 4 * 21 : 0) + (a->steps.empty() ? 0 : 4) + 16.0 * double(aovs.size())) /
+          (16 + 16 + 4 + 16 + (gbuffer ? 2 * 4 * 21 : 0) + (a->steps.empty() ? 0 : 4) + 16.0 * double(aovs.size()) +
+           (adaptive ? 2 * 16 * 4 / 3 + 16 : 0)) /  // the adaptive pass's two pyramids and its mask
           (1024.0 * 1024.0);
       const double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
       if (limit > 0 && mib > limit) {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
 #include <sstream>
 
 #include "svo/render/camera.h"
@@ -164,10 +163,11 @@ void add_adaptive_options(CLI::App& cmd, render::AdaptiveOptions& o) {
       ->capture_default_str()
       ->check(CLI::Range(1.0e-3f, 1.0e3f))
       ->group("Adaptive");
-  cmd.add_option("--adaptive-variance", o.measured_variance,
-                 "--shading adaptive: how each pixel's sample count is set: bound (Bagher Eq. 9, which assumes uniform "
-                 "sampling) or measured (the variance of the n_b directions' importance-sampled estimates)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"bound", false}, {"measured", true}}))
+  cmd.add_option_function<std::string>(
+         "--adaptive-variance", [&o](const std::string& v) { o.measured_variance = v == "measured"; },
+         "--shading adaptive: how each pixel's sample count is set: bound (Bagher Eq. 9, which assumes uniform "
+         "sampling) or measured (the variance of the n_b directions' importance-sampled estimates)")
+      ->check(CLI::IsMember({"bound", "measured"}))
       ->default_str("bound")
       ->group("Adaptive");
   cmd.add_option("--adaptive-bandwidth-block", o.bandwidth_block,
