@@ -66,6 +66,7 @@ struct BandwidthBenchArgs {
   uint32_t truth_spp = 128;
   uint32_t variance_frames = 32;
   uint32_t repeats = 2;
+  uint32_t directions = render::AdaptiveOptions{}.directions;  // n_b of parts 1, 2 and 4
   std::vector<uint32_t> parts{1, 2, 3, 4};
   std::string out = "bench-bandwidth";
 };
@@ -227,7 +228,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
      << "x" << a.size << ", octrees " << a.resolution << "^3, view " << a.view << ", native host; ground truth: "
      << (a.truth == "reference" ? "svo reference (" + std::to_string(a.truth_spp) + " spp)"
                                 : "forward shading at " + std::to_string(a.truth_spp) + " spp")
-     << ". Times are medians of " << a.repeats << " frames after a warm-up frame.\n\n";
+     << ". Times are medians of " << a.repeats << " frames after a warm-up frame. n_b = " << a.directions << ".\n\n";
   csv << "part,scene,material,env,method,knob,ms,relmse,bandwidth_ms,shaded,samples,covered\n";
 
   for (size_t si = 0; si < a.scenes.size(); ++si) {
@@ -252,6 +253,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
         render::RenderSettings s = base;
         s.shading.environment = env;
         s.shading.material = material;
+        s.adaptive.directions = a.directions;
         // Ground truth.
         bar.update(label + ": ground truth", 0);
         render::Frame truth;
@@ -334,9 +336,15 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
                 std::max(p.method == "bound" ? best_bound : best_measured, speedup);
             md << "| adaptive (" << p.method << ") | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | "
                << sci(p.relmse) << " | "
-               << (at > 0 ? bench::fmt(at, 0) : beyond ? "below the sweep's best" : "outside the sweep") << " | "
-               << (at > 0 ? bench::fmt(speedup, 2) + "x" : beyond ? ">= " + bench::fmt(speedup, 2) + "x" : "-") << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1)
-               << "% | " << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
+               << (at > 0   ? bench::fmt(at, 0)
+                   : beyond ? "below the sweep's best"
+                            : "outside the sweep")
+               << " | "
+               << (at > 0   ? bench::fmt(speedup, 2) + "x"
+                   : beyond ? ">= " + bench::fmt(speedup, 2) + "x"
+                            : "-")
+               << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1) << "% | "
+               << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
                << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1) << " |\n";
           }
           md << "\nBest speed-up at equal relMSE: " << bench::fmt(best_bound, 2) << "x (Eq. 9's bound), "
@@ -584,6 +592,9 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
   cmd->add_option("--repeats", a->repeats, "Frames per timing after a warm-up; the median is reported")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100u));
+  cmd->add_option("--directions", a->directions, "n_b, the directions per pixel of the adaptive frames (not part 3's)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--parts", a->parts,
                   "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit); parts "
                   "2-4 run on the first scene's first material and map")
