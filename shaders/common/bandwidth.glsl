@@ -114,7 +114,9 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
   float t = svo_bw_texture(g, x0, x1, y0, y1) * cos_x / max(pixel_angle * g.depth, 1.0e-30f);
   float slope_rho =
       (adapt.config.z & SVO_ADAPTIVE_SLOPE_LIMIT) != 0u ? svo_bw_slope_limit(min(p.sn2.x, p.sn2.y)) : SVO_BW_INFINITE;
-  SvoLobe lobe = svo_sample_lobe(p, mat, vec2(0.5f, 0.0f));
+  // The lobe about the mean normal (u = 0: no slope drawn for the Phong and
+  // measured lobes; the microfacet ones widen by the voxel's slopes).
+  SvoLobe lobe = svo_sample_lobe(p, mat, vec2(0.0f));
   vec3 vs = svo_to_lobe(lobe, p.v);
   uint nb = max(adapt.config.x, 1u);
   uint seed = shade.sampling.y ^ 0x5bd1e995u;
