@@ -290,12 +290,13 @@ std::vector<float> brdf_bandwidth(const Material& material) {
 }
 
 std::vector<float> windowed_fft_bandwidth(std::span<const float> image, uint32_t width, uint32_t height,
-                                          uint32_t window, uint32_t stride) {
+                                          uint32_t window, uint32_t stride, float epsilon) {
   constexpr const char* fn = "windowed_fft_bandwidth";
   check_image(image, width, height, fn);
   if (window < 4 || window % 2 != 0 || window > 4096)
     bad(fn, "window " + std::to_string(window) + " is not even in [4, 4096]");
   if (stride == 0) bad(fn, "stride 0");
+  if (!(epsilon >= 0.0f && epsilon < 1.0f)) bad(fn, "epsilon " + std::to_string(epsilon) + " outside [0, 1)");
   const uint32_t bins = window / 2 + 1;
   struct FftwFree {
     void operator()(void* p) const { fftwf_free(p); }
@@ -351,14 +352,25 @@ std::vector<float> windowed_fft_bandwidth(std::span<const float> image, uint32_t
       }
       fftwf_execute(plan.get());
       std::fill(rings.begin(), rings.end(), 0.0);
+      // Eq. 7's epsilon in power: bins whose amplitude is below epsilon of
+      // the window's largest do not count (a faint broadband floor, such as
+      // noise, would otherwise hold the 95th percentile near Nyquist).
+      double peak = 0.0;
+      for (uint32_t k = 0; k < window * bins; ++k) {
+        const fftwf_complex& c = spectrum.get()[k];
+        peak = std::max(peak, double(c[0]) * c[0] + double(c[1]) * c[1]);
+      }
+      const double floor = epsilon * epsilon * peak;
       double total = 0.0;
       for (uint32_t ky = 0; ky < window; ++ky) {
         const uint32_t fy = std::min(ky, window - ky);  // |fy| in bins
         for (uint32_t kx = 0; kx < bins; ++kx) {
           const fftwf_complex& c = spectrum.get()[ky * bins + kx];
+          const double bin = double(c[0]) * c[0] + double(c[1]) * c[1];
+          if (bin < floor) continue;
           // r2c holds kx in [0, window/2]; the others are their conjugates.
           const double weight = (kx == 0 || kx == window / 2) ? 1.0 : 2.0;
-          const double power = weight * (double(c[0]) * c[0] + double(c[1]) * c[1]);
+          const double power = weight * bin;
           rings[size_t(std::lround(std::sqrt(double(kx) * kx + double(fy) * fy)))] += power;
           total += power;
         }

@@ -143,11 +143,14 @@ std::vector<float> brdf_bandwidth(const Material& material);
 // bin wide each side, so a sinusoid of m bins reads about m + 1 bins: within
 // 1.5x of its frequency from ~2.5 cycles per window on (the uncertainty the
 // paper's footnote 1 mentions); use a wider window for lower frequencies.
+// Bins whose amplitude is below `epsilon` of the window's largest are left
+// out (Eq. 7's epsilon; 0 keeps every bin), so that a faint broadband floor
+// (Monte Carlo noise, voxel-scale detail) does not read as the bandwidth.
 // Cost: one window^2 FFT per centre; the planner is guarded by a mutex, so
 // calls on several threads are safe.
 // @throw std::invalid_argument (one line): an empty image, a size mismatch,
 //        a NaN or Inf value, window odd or outside [4, 4096], stride 0.
 std::vector<float> windowed_fft_bandwidth(std::span<const float> image, uint32_t width, uint32_t height,
-                                          uint32_t window = 32, uint32_t stride = 8);
+                                          uint32_t window = 32, uint32_t stride = 8, float epsilon = 0.01f);
 
 }  // namespace svo::render
