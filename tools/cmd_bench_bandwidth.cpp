@@ -117,16 +117,17 @@ Scene load_scene(const std::string& what, uint32_t resolution, ProgressBar& bar)
     s.geometry = reference::scene_geometry(*s.analytic);
   } else {
     source.input = what;
-    s.tree = voxelizer::voxelize(*voxelizer::mesh_source(read_source_mesh(source)), vo);
     voxelizer::TriangleMesh mesh = read_source_mesh(source);
+    s.tree = voxelizer::voxelize(*voxelizer::mesh_source(mesh), vo);
     mesh.sigma_rho2 = s.tree.sigma_rho2;
     s.geometry = reference::mesh_geometry(std::move(mesh));
   }
   return s;
 }
 
-double psnr(const render::Frame& image, const render::Frame& truth) {
-  return reference::compare_images(render::frame_image(image), render::frame_image(truth)).psnr;
+// PSNR and relMSE of a frame against the truth, from one comparison.
+reference::ImageErrors errors(const render::Frame& image, const render::Frame& truth) {
+  return reference::compare_images(render::frame_image(image), render::frame_image(truth));
 }
 
 struct Point {
@@ -190,8 +191,8 @@ double rank_correlation(const std::vector<double>& x, const std::vector<double>&
   return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
 }
 
-// A scalar image in false colour (black to white through the colour map
-// of svo compare --diff) between lo and hi, on a log scale when `log`.
+// A scalar image in false colour (svo compare --diff's colour map, black
+// to pale yellow) between lo and hi, on a log scale when `log`.
 render::Frame false_colour(const std::vector<float>& v, uint32_t w, uint32_t h, double lo, double hi, bool log) {
   render::Frame f;
   f.width = w;
@@ -201,10 +202,7 @@ render::Frame false_colour(const std::vector<float>& v, uint32_t w, uint32_t h, 
     double t = log ? (std::log(std::max(double(v[i]), lo)) - std::log(lo)) / (std::log(hi) - std::log(lo))
                    : (double(v[i]) - lo) / (hi - lo);
     if (!(v[i] >= 0)) t = 0;  // no surface
-    t = std::clamp(t, 0.0, 1.0);
-    const glm::vec3 c = t < 0.5 ? glm::mix(glm::vec3(0.0f), glm::vec3(0.7f, 0.1f, 0.6f), float(2 * t))
-                                : glm::mix(glm::vec3(0.7f, 0.1f, 0.6f), glm::vec3(1.0f, 0.95f, 0.6f), float(2 * t - 1));
-    f.colour[i] = glm::vec4(c, 1.0f);
+    f.colour[i] = glm::vec4(reference::false_colour(t), 1.0f);
   }
   return f;
 }
@@ -514,9 +512,10 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
             double ms = 0;
             const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, ms);
             const double bms = adaptive->stats().bandwidth_ms;
+            const reference::ImageErrors e = errors(f, truth);
             md << "| " << nb << " | " << bench::fmt(ms, 0) << " | " << bench::fmt(bms, 0) << " | "
-               << bench::fmt(psnr(f, truth), 2) << " | " << sci(relmse(f, truth)) << " |\n";
-            json["n_b"].push_back({{"n_b", nb}, {"ms", ms}, {"bandwidth_ms", bms}, {"psnr", psnr(f, truth)}});
+               << bench::fmt(e.psnr, 2) << " | " << sci(e.relmse) << " |\n";
+            json["n_b"].push_back({{"n_b", nb}, {"ms", ms}, {"bandwidth_ms", bms}, {"psnr", e.psnr}});
           }
           md << "\n";
           md.flush();
@@ -547,13 +546,11 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
             double ms = 0;
             const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, ms);
             const auto& st = adaptive->stats();
+            const double err = relmse(f, far_truth);
             md << "| " << (limit ? "on" : "off") << " | " << bench::fmt(ms, 0) << " | " << st.shaded << " | "
-               << st.samples << " | " << sci(relmse(f, far_truth)) << " |\n";
-            json["slope_limit"].push_back({{"on", limit},
-                                           {"ms", ms},
-                                           {"shaded", st.shaded},
-                                           {"samples", st.samples},
-                                           {"relmse", relmse(f, far_truth)}});
+               << st.samples << " | " << sci(err) << " |\n";
+            json["slope_limit"].push_back(
+                {{"on", limit}, {"ms", ms}, {"shaded", st.shaded}, {"samples", st.samples}, {"relmse", err}});
           }
           md << "\n";
           md.flush();

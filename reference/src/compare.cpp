@@ -71,14 +71,6 @@ constexpr std::array<glm::vec3, 5> kStops{glm::vec3(0.0f, 0.0f, 0.016f), glm::ve
                                           glm::vec3(0.737f, 0.216f, 0.329f), glm::vec3(0.976f, 0.557f, 0.035f),
                                           glm::vec3(0.988f, 1.0f, 0.643f)};
 
-glm::vec3 false_colour(double value) {
-  const double f = std::clamp(value, 0.0, 1.0) * double(kStops.size() - 1);
-  const size_t i = std::min(size_t(f), kStops.size() - 2);
-  const glm::vec3 srgb = glm::mix(kStops[i], kStops[i + 1], float(f - double(i)));
-  return {svo::math::svo_srgb_to_linear(srgb.x), svo::math::svo_srgb_to_linear(srgb.y),
-          svo::math::svo_srgb_to_linear(srgb.z)};
-}
-
 }  // namespace
 
 std::vector<uint8_t> silhouette_mask(const Image& reference) {
@@ -157,6 +149,14 @@ double max_pixel_error(const Image& image, const Image& reference) {
     for (int x = 0; x < image.width; ++x) worst = std::max(worst, pixel_mse(image, ca, reference, cb, x, y));
   }
   return std::sqrt(worst);
+}
+
+glm::vec3 false_colour(double value) {
+  const double f = std::clamp(value, 0.0, 1.0) * double(kStops.size() - 1);
+  const size_t i = std::min(size_t(f), kStops.size() - 2);
+  const glm::vec3 srgb = glm::mix(kStops[i], kStops[i + 1], float(f - double(i)));
+  return {svo::math::svo_srgb_to_linear(srgb.x), svo::math::svo_srgb_to_linear(srgb.y),
+          svo::math::svo_srgb_to_linear(srgb.z)};
 }
 
 render::Frame error_image(const Image& image, const Image& reference, double scale) {

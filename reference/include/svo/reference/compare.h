@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,6 +44,10 @@ std::vector<uint8_t> silhouette_mask(const render::Image& reference);
 //        WxH but <reference_name> is WxH" for different sizes.
 ImageErrors compare_images(const render::Image& image, const render::Image& reference,
                            const std::string& image_name = "image", const std::string& reference_name = "reference");
+
+// The colour map of error_image at `value` in [0, 1] (clamped): black
+// through purple and orange to pale yellow, linear RGB.
+glm::vec3 false_colour(double value);
 
 // A false-colour picture of the per-pixel error sqrt(mean over R, G, B of
 // (a - b)^2): black (0) through purple and orange to pale yellow (`scale`
