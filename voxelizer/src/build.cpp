@@ -165,14 +165,16 @@ struct Builder {
       auto& points = scratch.local();
       for (size_t c = r.begin(); c != r.end(); ++c) {
         glm::ivec3 lo = candidates[c] * int(B), hi = lo + glm::ivec3(int(B) - 1);
-        source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2; a margin for rounding
+        source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2 (of a sheet); a margin for rounding
         size_t i = 0;
         for (int z = lo.z; z <= hi.z; ++z)
           for (int y = lo.y; y <= hi.y; ++y)
             for (int x = lo.x; x <= hi.x; ++x, ++i) {
               const FinePoint& p = points[i];
-              if (p.near && std::abs(p.distance) <= 0.5f * h) {
-                found.push_back({pack({x, y, z}), {p.closest, p.normal, p.colour, p.material}});
+              // A sheet's samples are the lattice points within h/2 of the
+              // sheet itself, on either side, with its own orientation.
+              if (p.near && (p.sheet >= 0 ? p.sheet : std::abs(p.distance)) <= 0.5f * h) {
+                found.push_back({pack({x, y, z}), {p.closest, p.turned ? -p.normal : p.normal, p.colour, p.material}});
               }
             }
       }

@@ -15,6 +15,13 @@ namespace svo::voxelizer {
 
 namespace {
 
+// Thickness of the shell drawn around each triangle of an open surface, in
+// finest voxels: above 1, so that the trilinear interpolation between
+// lattice points on either side of a triangle always dips below zero (1.5: to
+// -h/4 or lower wherever the triangle lies between lattice points). Its
+// surfaces lie 0.75 voxels off the triangle on either side.
+constexpr double kShellVoxels = 1.5;
+
 // Closest point to p on triangle (a, b, c), with its barycentric coordinates
 // (Ericson, Real-Time Collision Detection, 5.1.5).
 glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3& bary) {
@@ -109,6 +116,7 @@ class MeshSource : public SurfaceSource {
     auto index = index_->getConstAccessor();
     const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
     const float background = distance_->background();
+    const double h = lattice_.voxel;
     for (int z = lo.z; z <= hi.z; ++z)
       for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {
@@ -116,25 +124,37 @@ class MeshSource : public SurfaceSource {
           FinePoint point;
           float d = dist.getValue(ijk);
           int32_t tri = index.getValue(ijk);
+          glm::dvec3 p = lattice_.position({x, y, z});
           if (std::abs(d) < band && tri >= 0 && size_t(tri) < mesh_.triangles.size()) {
-            glm::dvec3 p = lattice_.position({x, y, z});
             const glm::ivec3& t = mesh_.triangles[size_t(tri)];
             glm::dvec3 bary;
             const auto& v = mesh_.positions;
             glm::dvec3 c = closest_on_triangle(p, v[size_t(t.x)], v[size_t(t.y)], v[size_t(t.z)], bary);
             double exact = glm::length(p - c);
             point.near = exact < band;
-            point.distance = float(d < 0 ? -exact : exact);
             point.closest = glm::vec3(c);
             // The closest triangle's own normal (DESIGN section 6): interpolated
             // vertex normals would bend flat faces next to sharp edges.
             point.normal = mesh_.face_normals[size_t(tri)];
             point.colour = mesh_.colour(size_t(tri), bary);
             point.material = mesh_.face_material.empty() ? 0u : mesh_.face_material[size_t(tri)];
-            if (!point.near) point.distance = d < 0 ? -band : band;
+            if (open_) {
+              // An open surface: a thin shell around each triangle, so that
+              // both of its sides are drawn (as the reference's double-sided
+              // triangles are) and no point needs an inside; its normal faces
+              // the point's side.
+              point.sheet = float(exact);
+              point.distance = point.near ? float(exact - 0.5 * kShellVoxels * h) : band;
+              point.turned = glm::dot(p - c, glm::dvec3(point.normal)) < 0;
+              if (point.turned) point.normal = -point.normal;
+            } else {
+              point.distance = float(d < 0 ? -exact : exact);
+              if (!point.near) point.distance = d < 0 ? -band : band;
+            }
           } else {
             float magnitude = std::max(std::abs(d), band);
-            point.distance = (d < 0 || (d == -background)) ? -magnitude : magnitude;
+            const bool inside = !open_ && (d < 0 || (d == -background));
+            point.distance = inside ? -magnitude : magnitude;
           }
           out.push_back(point);
         }
@@ -142,6 +162,9 @@ class MeshSource : public SurfaceSource {
 
  private:
   TriangleMesh mesh_;
+  // Open or non-manifold: drawn as shells; OpenVDB's sign (a flood-fill
+  // guess there) is unused.
+  bool open_ = mesh_.open_edges > 0 || mesh_.nonmanifold_edges > 0;
   Lattice lattice_;
   openvdb::math::Transform::Ptr transform_;
   openvdb::FloatGrid::Ptr distance_;

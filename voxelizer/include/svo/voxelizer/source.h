@@ -5,8 +5,8 @@
 #pragma once
 
 #include <cstdint>
-#include <string>
 #include <glm/vec3.hpp>
+#include <string>
 #include <vector>
 
 #include "svo/octree/octree.h"
@@ -38,6 +38,13 @@ struct FinePoint {
   glm::vec3 normal{0, 0, 1};   // unit surface normal at `closest`
   glm::vec3 colour{0, 0, 0};   // linear RGB attribute at `closest`
   uint32_t material = 0;       // index into materials() of the surface at `closest`
+  // >= 0: the point lies beside an open surface, drawn as a thin shell
+  // around each triangle so that both of its sides are outside: `distance`
+  // and `normal` are the shell's (the normal faces the point's side;
+  // `turned`: against the triangle's own), `sheet` the unsigned distance to
+  // the triangle itself, which coarser levels average with its own normal.
+  float sheet = -1;
+  bool turned = false;
 };
 
 class SurfaceSource {

