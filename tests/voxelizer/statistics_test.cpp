@@ -294,4 +294,28 @@ TEST(Statistics, MaterialSpheresCarryTheirMaterials) {
   }
 }
 
+// A sheet's voxel seen from behind its mean plane: the normal turns around,
+// the slope covariance is the same distribution in the turned frame (trace
+// and determinant kept), the colour-height correlation changes sign, and
+// hbar is the distance to the shell's near face.
+TEST(Statistics, TwoSidedTurnsAVoxelBehindItsSheet) {
+  octree::Voxel v;
+  v.nbar = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f));
+  v.hbar = -0.9f;
+  v.slope_cov = glm::vec3(0.04f, 0.01f, 0.012f);
+  v.a_s = glm::vec3(0.1f, -0.2f, 0.05f);
+  const octree::Voxel t = voxelizer::two_sided(v, 0.5f);
+  EXPECT_NEAR(glm::length(t.nbar + v.nbar), 0.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(t.hbar, 0.9f - 0.5f * voxelizer::kShellVoxels * 0.5f);
+  EXPECT_NEAR(t.slope_cov.x + t.slope_cov.y, 0.05f, 1e-6f);
+  EXPECT_NEAR(t.slope_cov.x * t.slope_cov.y - t.slope_cov.z * t.slope_cov.z, 0.04f * 0.01f - 0.012f * 0.012f, 1e-7f);
+  EXPECT_EQ(t.a_s, -v.a_s);
+  // In front of it: only the shell's offset.
+  v.hbar = 0.9f;
+  const octree::Voxel f = voxelizer::two_sided(v, 0.5f);
+  EXPECT_EQ(f.nbar, v.nbar);
+  EXPECT_EQ(f.slope_cov, v.slope_cov);
+  EXPECT_FLOAT_EQ(f.hbar, 0.9f - 0.5f * voxelizer::kShellVoxels * 0.5f);
+}
+
 }  // namespace

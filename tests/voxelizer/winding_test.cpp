@@ -2,6 +2,8 @@
 // a known answer, and the fast approximation against the exact sum.
 #include "svo/voxelizer/winding.h"
 
+#include "svo/voxelizer/mesh.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +120,27 @@ TEST(Winding, FastMatchesExactOnRandomPoints) {
     }
     EXPECT_LT(worst, beta == 2.0 ? kFast : 0.5 * kFast) << "beta " << beta;
   }
+}
+
+// What make_triangle_mesh decides: a box with one small triangle missing is
+// drawn as a solid; without its lid, or as a sheet, two-sided.
+TEST(Winding, SmallHolesKeepASolidLargeOnesDrawTwoSided) {
+  auto decide = [](Soup s, bool drop_one) {
+    if (drop_one) s.triangles.pop_back();
+    svo::voxelizer::MeshArrays m;
+    m.positions = s.positions;
+    m.triangles = s.triangles;
+    std::string warning;
+    svo::voxelizer::MeshOptions o;
+    o.warning = [&](const std::string& w) { warning = w; };
+    const svo::voxelizer::TriangleMesh mesh = svo::voxelizer::make_triangle_mesh("box", std::move(m), o);
+    EXPECT_GT(mesh.open_edges, 0u);
+    EXPECT_NE(warning.find(mesh.two_sided ? "drawn two-sided" : "drawn as a solid"), std::string::npos) << warning;
+    return mesh.two_sided;
+  };
+  EXPECT_FALSE(decide(grid_box(12, true), true));
+  EXPECT_TRUE(decide(grid_box(12, false), false));
+  EXPECT_TRUE(decide(sheet(8), false));
 }
 
 TEST(Winding, EmptySoupIsZero) {

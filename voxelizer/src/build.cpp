@@ -38,7 +38,8 @@ struct Level {
   uint32_t cells = 0;  // lattice cells per axis
   double voxel = 0;
   std::unordered_map<Key, uint32_t> filled;  // lattice key -> index into stats
-  std::vector<octree::Voxel> stats;
+  std::vector<octree::Voxel> stats;  // one-sided: two_sided() applies where `sheet` says, when bricks are filled
+  std::vector<uint8_t> sheet;        // per stats entry: a sheet of an open surface, drawn two-sided
   std::unordered_set<Key> bricks;
 };
 
@@ -174,7 +175,8 @@ struct Builder {
               // A sheet's samples are the lattice points within h/2 of the
               // sheet itself, on either side, with its own orientation.
               if (p.near && (p.sheet >= 0 ? p.sheet : std::abs(p.distance)) <= 0.5f * h) {
-                found.push_back({pack({x, y, z}), {p.closest, p.turned ? -p.normal : p.normal, p.colour, p.material}});
+                found.push_back({pack({x, y, z}),
+                                 {p.closest, p.turned ? -p.normal : p.normal, p.colour, p.material, p.sheet >= 0}});
               }
             }
       }
@@ -220,11 +222,15 @@ struct Builder {
       std::vector<uint32_t> order(keyed.size());
       for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
       level.stats.resize(starts.size() - 1);
+      level.sheet.assign(starts.size() - 1, 0);
       tbb::parallel_for(size_t(0), starts.size() - 1, [&](size_t g) {
         glm::ivec3 k = unpack(keyed[starts[g]].first);
         glm::vec3 centre(lattice.origin + glm::dvec3(k) * level.voxel);
-        level.stats[g] =
-            surface_statistics(samples, std::span(order).subspan(starts[g], starts[g + 1] - starts[g]), centre);
+        const auto indices = std::span(order).subspan(starts[g], starts[g + 1] - starts[g]);
+        level.stats[g] = surface_statistics(samples, indices, centre);
+        size_t sheets = 0;
+        for (uint32_t i : indices) sheets += samples[i].sheet;
+        level.sheet[g] = 2 * sheets > indices.size();
       });
       level.filled.reserve(starts.size());
       for (size_t g = 0; g + 1 < starts.size(); ++g) {
@@ -397,7 +403,7 @@ struct Builder {
                   v.material = p.material;
                 } else {
                   glm::vec3 n(0), a(0);
-                  int count = 0;
+                  int count = 0, sheets = 0;
                   for (int k = 0; k < 27; ++k) {
                     int qx = x + k % 3 - 1, qy = y + (k / 3) % 3 - 1, qz = z + k / 9 - 1;
                     if (qx < 0 || qy < 0 || qz < 0 || qx >= S || qy >= S || qz >= S) continue;
@@ -434,8 +440,10 @@ struct Builder {
                 glm::ivec3 p = base + glm::ivec3(x, y, z);
                 octree::Voxel v;
                 int32_t self = filled_at(x, y, z);
+                bool sheet = false;
                 if (self >= 0) {
                   v = level.stats[size_t(self)];
+                  sheet = level.sheet[size_t(self)];
                 } else {
                   // No surface in the footprint: attributes from filled neighbours,
                   // the distance from their planes, never below the footprint's half size.
@@ -443,7 +451,7 @@ struct Builder {
                   sum.nbar = glm::vec3(0);
                   sum.abar = glm::vec3(0);
                   float hsum = 0;
-                  int count = 0;
+                  int count = 0, sheets = 0;
                   for (int k = 0; k < 27; ++k) {
                     glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
                     int32_t nb = k == 13 ? -1 : filled_at(x + o.x, y + o.y, z + o.z);
@@ -456,6 +464,7 @@ struct Builder {
                     sum.abar += u.abar;
                     sum.a_s += u.a_s;
                     v.material = u.material;
+                    sheets += level.sheet[size_t(nb)];
                     ++count;
                   }
                   if (count) {
@@ -467,6 +476,13 @@ struct Builder {
                     v.a_s = sum.a_s * inv;
                     float e = hsum * inv;
                     v.hbar = std::abs(e) >= floor_distance ? e : (e < 0 ? -floor_distance : floor_distance);
+                    if (2 * sheets > count) {
+                      // The neighbours' planes, extrapolated, say where the
+                      // sheet is; drawn two-sided, no footprint without
+                      // surface is nearer than floor_distance.
+                      v = two_sided(v, float(level.voxel));
+                      v.hbar = std::max(v.hbar, floor_distance);
+                    }
                   } else {
                     // Nothing in the 27 footprints around: at least 1.5 voxels away.
                     glm::ivec3 fine = p * int(N / level.cells);
@@ -486,7 +502,12 @@ struct Builder {
                       if (it == coarse.filled.end()) continue;
                       const octree::Voxel& u = coarse.stats[it->second];
                       float e = u.hbar + float(glm::dot(glm::dvec3(u.nbar), at - glm::dvec3(q) * coarse.voxel));
-                      v.nbar = u.nbar;
+                      glm::vec3 n = u.nbar;
+                      if (coarse.sheet[it->second]) {  // the coarser sheet's shell, from this point's side
+                        if (e < 0) e = -e, n = -n;
+                        e -= 0.5f * kShellVoxels * float(coarse.voxel);
+                      }
+                      v.nbar = n;
                       v.abar = u.abar;
                       v.material = u.material;
                       if ((e < 0) == (v.hbar < 0) && std::abs(e) > far) v.hbar = e;
@@ -494,6 +515,7 @@ struct Builder {
                     }
                   }
                 }
+                if (sheet) v = two_sided(v, float(level.voxel));
                 octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
               }
         }

@@ -620,25 +620,37 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
 
 namespace {
 
-// The share of the surface's area whose generalized winding number crosses
-// 1/2 through it (it bounds a volume), from at most 2048 triangles spread
-// over the mesh; the rest is a sheet (both sides inside, or both outside).
-double enclosing_share(const TriangleMesh& mesh) {
+// What the generalized winding number says of a surface, from at most 2048
+// triangles spread over it (area-weighted): the share of its area whose
+// winding number crosses 1/2 through it (it bounds a volume; the rest is a
+// sheet, both sides inside or both outside), and the share where it goes
+// from within 0.05 of 0 to within 0.05 of 1 (a closed surface gives 0 and 1
+// everywhere; from there, the holes take up less than 5% of the sphere).
+struct WindingShares {
+  double bounds_volume = 0;
+  double closed = 0;
+};
+
+WindingShares winding_shares(const TriangleMesh& mesh) {
   const WindingNumber winding(mesh.positions, mesh.triangles);
   const glm::dvec3 extent = glm::dvec3(mesh.bounds.hi) - glm::dvec3(mesh.bounds.lo);
   const double probe = 1e-6 * glm::length(extent);
   const size_t stride = std::max<size_t>(1, mesh.triangles.size() / 2048);
-  double total = 0, enclosing = 0;
+  double total = 0;
+  WindingShares shares;
   for (size_t t = 0; t < mesh.triangles.size(); t += stride) {
     const glm::ivec3 i = mesh.triangles[t];
     const glm::dvec3 a = mesh.positions[size_t(i.x)], b = mesh.positions[size_t(i.y)], c = mesh.positions[size_t(i.z)];
     const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
     const glm::dvec3 centre = (a + b + c) / 3.0, n(mesh.face_normals[t]);
-    const double mean = 0.5 * (winding(centre + probe * n) + winding(centre - probe * n));
+    // The jump through the triangle is 1: its middle says it all.
+    const double middle = 0.5 * (winding(centre + probe * n) + winding(centre - probe * n));
     total += area;
-    if (std::abs(mean - 0.5) < 0.25) enclosing += area;
+    if (std::abs(middle - 0.5) < 0.25) shares.bounds_volume += area;
+    if (std::abs(middle - 0.5) < 0.05) shares.closed += area;
   }
-  return total > 0 ? enclosing / total : 0;
+  if (total > 0) shares.bounds_volume /= total, shares.closed /= total;
+  return shares;
 }
 
 }  // namespace
@@ -755,19 +767,28 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     if (j - i >= 3) ++out.nonmanifold_edges;
     i = j;
   }
+  // A surface with holes or non-manifold edges is drawn as a solid when the
+  // winding number says its holes are small (OpenVDB's flood fill does not
+  // leak through them), else two-sided (mesh_source.cpp).
+  WindingShares shares;
+  if (out.open_edges || out.nonmanifold_edges) {
+    shares = winding_shares(out);
+    out.two_sided = shares.closed < kClosedShare;
+  }
   if (options.warning) {
     if (out.degenerate) {
       options.warning(path + ": " + std::to_string(out.degenerate) + " triangles of zero area dropped");
     }
     if (out.open_edges || out.nonmanifold_edges) {
-      const double enclosing = enclosing_share(out);
-      char share[160];
-      std::snprintf(share, sizeof share,
-                    "by the winding number, %.0f%% of its area bounds a volume and %.0f%% is a sheet", 100 * enclosing,
-                    100 * (1 - enclosing));
+      char why[200];
+      std::snprintf(why, sizeof why,
+                    "by the winding number, %.1f%% of its area is closed (%.0f%% bounds a volume, %.0f%% is a sheet)",
+                    100 * shares.closed, 100 * shares.bounds_volume, 100 * (1 - shares.bounds_volume));
       options.warning(path + ": not a closed manifold surface (" + std::to_string(out.open_edges) + " open edges, " +
-                      std::to_string(out.nonmanifold_edges) +
-                      " non-manifold edges): drawn two-sided, as a thin shell around every triangle; " + share);
+                      std::to_string(out.nonmanifold_edges) + " non-manifold edges): " +
+                      (out.two_sided ? "drawn two-sided, as a thin shell around every triangle; "
+                                     : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
+                      why);
     }
   }
   return out;

@@ -15,12 +15,6 @@ namespace svo::voxelizer {
 
 namespace {
 
-// Thickness of the shell drawn around each triangle of an open surface, in
-// finest voxels: above 1, so that the trilinear interpolation between
-// lattice points on either side of a triangle always dips below zero (1.5: to
-// -h/4 or lower wherever the triangle lies between lattice points). Its
-// surfaces lie 0.75 voxels off the triangle on either side.
-constexpr double kShellVoxels = 1.5;
 
 // Closest point to p on triangle (a, b, c), with its barycentric coordinates
 // (Ericson, Real-Time Collision Detection, 5.1.5).
@@ -162,9 +156,8 @@ class MeshSource : public SurfaceSource {
 
  private:
   TriangleMesh mesh_;
-  // Open or non-manifold: drawn as shells; OpenVDB's sign (a flood-fill
-  // guess there) is unused.
-  bool open_ = mesh_.open_edges > 0 || mesh_.nonmanifold_edges > 0;
+  // Drawn as shells; OpenVDB's sign (a flood-fill guess there) is unused.
+  bool open_ = mesh_.two_sided;
   Lattice lattice_;
   openvdb::math::Transform::Ptr transform_;
   openvdb::FloatGrid::Ptr distance_;

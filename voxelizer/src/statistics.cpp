@@ -5,8 +5,11 @@
 #include <utility>
 #include <vector>
 #include <glm/geometric.hpp>
+#include <glm/mat2x2.hpp>
+#include <glm/matrix.hpp>
 
 #include "common/shared_math.h"
+#include "svo/voxelizer/source.h"
 
 namespace svo::voxelizer {
 
@@ -100,6 +103,25 @@ octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::sp
     }
     if (den > 1e-12) v.a_s = glm::vec3(num / den);
   }
+  return v;
+}
+
+octree::Voxel two_sided(octree::Voxel v, float voxel) {
+  if (v.hbar < 0) {
+    // Slopes s' of the turned normals in the frame of -nbar: s' = A s with
+    // A = -[[t.t2, b.t2], [t.b2, b.b2]] (frames of nbar and -nbar); the
+    // covariance goes to A C A^T. Heights change sign, and a_s with them.
+    const svo::math::SvoFrame f = svo::math::svo_tangent_frame(v.nbar);
+    const svo::math::SvoFrame g = svo::math::svo_tangent_frame(-v.nbar);
+    const glm::mat2 a(-glm::dot(f.t, g.t), -glm::dot(f.t, g.b), -glm::dot(f.b, g.t), -glm::dot(f.b, g.b));
+    const glm::mat2 c(v.slope_cov.x, v.slope_cov.z, v.slope_cov.z, v.slope_cov.y);
+    const glm::mat2 turned = a * c * glm::transpose(a);
+    v.slope_cov = glm::vec3(turned[0][0], turned[1][1], turned[0][1]);
+    v.nbar = -v.nbar;
+    v.hbar = -v.hbar;
+    v.a_s = -v.a_s;
+  }
+  v.hbar -= 0.5f * kShellVoxels * voxel;
   return v;
 }
 

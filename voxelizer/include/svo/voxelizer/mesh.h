@@ -32,6 +32,10 @@ struct MeshOptions {
 // distances in float (3.4e38), and the octree's origin and size are floats.
 inline constexpr double kMaxCoordinate = 1e15;
 
+// Share of a surface's area that must look closed to the winding number for
+// a surface with holes to be drawn as a solid (TriangleMesh::two_sided).
+inline constexpr double kClosedShare = 0.95;
+
 // Largest texture read: 8192^2 texels of at most 4 channels, 16384 a side;
 // a larger one is refused from its header, before its pixels are allocated.
 inline constexpr double kMaxTextureTexels = 8192.0 * 8192.0;
@@ -60,6 +64,14 @@ struct TriangleMesh {
   size_t degenerate = 0;         // faces skipped for zero area
   size_t open_edges = 0;         // edges of exactly one kept triangle (0: closed)
   size_t nonmanifold_edges = 0;  // edges of three or more kept triangles
+  // Drawn two-sided, as a thin shell around every triangle (both sides
+  // outside, as the reference's double-sided triangles are): a surface with
+  // open or non-manifold edges whose generalized winding number is within
+  // 0.05 of 0 and 1 on either side of less than kClosedShare of its area
+  // (elsewhere its holes take up more than 5% of the sphere: the lidless box
+  // and the lion's open head, not the Chinese dragon's six open edges).
+  // Else a solid (OpenVDB's flood fill decides inside and outside).
+  bool two_sided = false;
   double area = 0;        // scene units squared
   float sigma_rho2 = 0.01f;
   Box bounds;
@@ -94,9 +106,8 @@ struct MeshArrays {
 // Repaired (counted, reported through options.warning): triangles of zero
 // area are dropped (they have no normal and bound nothing). Reported, kept:
 // open edges (used by one triangle) and non-manifold edges (three or more);
-// the level set of such a surface is still a band around every triangle,
-// but its inside/outside sign is OpenVDB's flood-fill guess (docs/RESULTS.md,
-// "Reliability").
+// such a surface is drawn two-sided or as a solid as the winding number
+// decides (two_sided), and the warning says which.
 TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays arrays, const MeshOptions& options = {});
 
 // Reads a texture image through OpenImageIO into linear RGB (8- and 16-bit

@@ -31,6 +31,15 @@ struct Lattice {
 // source gives exact values (distance, closest point, normal, colour).
 constexpr float kBandVoxels = 3.0f;
 
+// Thickness of the shell drawn around each triangle of an open surface, in
+// voxels of each level. The normal turns around inside the shell, halfway;
+// trilinear interpolation near a face then mixes in corners from beyond the
+// turn, whose opposite normals darken the shading (specks): a thickness of
+// 1.5 left dark specks over the lion's face at 128x128, 2 almost none, 2.5
+// none, and each half voxel more fattens silhouettes (docs/RESULTS.md,
+// "Open meshes"). Above 1, the interpolation always dips below zero.
+constexpr float kShellVoxels = 2.0f;
+
 struct FinePoint {
   float distance = 0;          // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
   bool near = false;           // |distance| < kBandVoxels voxels: the fields below are set

@@ -19,6 +19,7 @@ struct SurfaceSample {
   glm::vec3 normal;
   glm::vec3 colour;
   uint32_t material = 0;
+  bool sheet = false;  // of an open surface, drawn two-sided (FinePoint::sheet)
 };
 
 // Statistics of `samples[indices]` for a voxel centred at `centre`:
@@ -37,5 +38,13 @@ struct SurfaceSample {
 // Sums in double. `indices` must not be empty.
 octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::span<const uint32_t> indices,
                                  glm::vec3 centre);
+
+// The statistics `v` of a voxel (at `centre` of lattice spacing `voxel`)
+// whose surface is a sheet drawn two-sided, as the finest level draws it: a
+// shell 1.5 `voxel` thick around the mean plane, seen from the centre's
+// side. Where the centre lies behind the plane, the normal turns around
+// (slopes, their covariance and the colour-height correlation with it);
+// hbar becomes the distance to the shell's near face.
+octree::Voxel two_sided(octree::Voxel v, float voxel);
 
 }  // namespace svo::voxelizer
