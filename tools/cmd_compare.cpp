@@ -34,14 +34,16 @@ void add_compare_command(CLI::App& app, int& exit_code) {
       "Error of image A against reference B in linear radiance (EXR as written; PNG decoded from sRGB): RMSE, "
       "relMSE (pbrt-v4's MRSE, (a-b)^2/(b+0.01)^2), PSNR (peak 1), max error, and coverage error (mean |alpha "
       "difference|, overall and on B's silhouette pixels: alpha in (0.02, 0.98) or a 4-neighbour's alpha more "
-      "than 0.5 away)");
+      "than 0.5 away); and the outliers averages hide: the 99.9th percentile of the per-pixel error "
+      "sqrt(mean over RGB (a-b)^2), the pixels more than a pixel away from B's silhouettes whose error exceeds "
+      "0.25, and specks (pixels A covers, alpha > 0.05, where B covers nothing within 2 pixels)");
   auto a = std::make_shared<CompareArgs>();
   cmd->add_option("A", a->image, "The image to judge (e.g. svo render's .exr)")->required()->group("Input");
   cmd->add_option("B", a->reference, "The reference (e.g. svo reference's .exr)")->required()->group("Input");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: rmse, relmse, psnr (null when the colours are identical), "
                 "max_error, coverage_error, coverage_error_silhouette, silhouette_pixels (coverage figures null "
-                "without alpha), width, height")
+                "without alpha), p999_error, interior_pixels, outliers, specks (null without alpha), width, height")
       ->group("Output");
   cmd->add_option("--diff", a->diff,
                   "Also write the per-pixel error sqrt(mean over RGB (a-b)^2) in false colour (.png or .exr): "
@@ -76,6 +78,10 @@ void add_compare_command(CLI::App& app, int& exit_code) {
                          {"coverage_error", optional_json(e.coverage_error)},
                          {"coverage_error_silhouette", optional_json(e.coverage_error_silhouette)},
                          {"silhouette_pixels", e.silhouette_pixels},
+                         {"p999_error", e.p999_error},
+                         {"interior_pixels", e.interior_pixels},
+                         {"outliers", e.outliers},
+                         {"specks", e.specks ? nlohmann::json(*e.specks) : nlohmann::json(nullptr)},
                          {"diff", a->diff.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->diff)},
                          {"diff_scale", a->diff.empty() ? nlohmann::json(nullptr) : nlohmann::json(scale)}};
       std::cout << out.dump() << "\n";
@@ -91,6 +97,9 @@ void add_compare_command(CLI::App& app, int& exit_code) {
       } else {
         std::cout << ", no coverage (an image has no alpha)";
       }
+      std::cout << "; 99.9th percentile error " << e.p999_error << ", " << e.outliers << " of " << e.interior_pixels
+                << " pixels away from silhouettes off by more than " << reference::kOutlierError;
+      if (e.specks) std::cout << ", " << *e.specks << " specks";
       std::cout << "\n";
     }
     exit_code = 0;

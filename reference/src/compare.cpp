@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <glm/common.hpp>
@@ -92,6 +93,46 @@ std::vector<uint8_t> silhouette_mask(const Image& reference) {
   return mask;
 }
 
+namespace {
+
+// The outlier figures of ImageErrors (p999_error, interior_pixels, outliers, specks).
+void outliers(const Image& image, const std::array<int, 3>& ca, int aa, const Image& reference,
+              const std::array<int, 3>& cb, int ab, const std::vector<uint8_t>& silhouette, ImageErrors& e) {
+  const int w = image.width, h = image.height;
+  // Whether any pixel of the (2r + 1)^2 window around (x, y) passes `test`.
+  auto any_within = [&](int x, int y, int r, auto test) {
+    for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+      for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+        if (test(u, v)) return true;
+    return false;
+  };
+  std::vector<double> errors;
+  errors.reserve(size_t(w) * size_t(h));
+  uint64_t specks = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const double error = std::sqrt(pixel_mse(image, ca, reference, cb, x, y));
+      errors.push_back(error);
+      if (!any_within(x, y, 1, [&](int u, int v) { return silhouette[size_t(v) * size_t(w) + size_t(u)] != 0; })) {
+        ++e.interior_pixels;
+        if (error > kOutlierError) ++e.outliers;
+      }
+      if (aa >= 0 && ab >= 0 && image.at(x, y, aa) > 0.05f &&
+          !any_within(x, y, 2, [&](int u, int v) { return reference.at(u, v, ab) > 0.0f; })) {
+        ++specks;
+      }
+    }
+  }
+  if (aa >= 0 && ab >= 0) e.specks = specks;
+  if (!errors.empty()) {
+    const size_t k = std::min(errors.size() - 1, size_t(std::ceil(0.999 * double(errors.size()))) - 1);
+    std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
+    e.p999_error = errors[k];
+  }
+}
+
+}  // namespace
+
 ImageErrors compare_images(const Image& image, const Image& reference, const std::string& image_name,
                            const std::string& reference_name) {
   const auto ca = rgb_channels(image, image_name);
@@ -139,6 +180,7 @@ ImageErrors compare_images(const Image& image, const Image& reference, const std
     e.coverage_error = all / (double(image.width) * double(image.height));
     if (e.silhouette_pixels > 0) e.coverage_error_silhouette = edge / double(e.silhouette_pixels);
   }
+  outliers(image, ca, aa, reference, cb, ab, silhouette, e);
   return e;
 }
 

@@ -109,6 +109,40 @@ TEST(Compare, WithoutAlphaCoverageIsUnknown) {
   EXPECT_EQ(e.rmse, 0);
 }
 
+// Outliers: a pixel off by 0.5 in the middle of a covered image counts, and
+// so does an isolated speck off by 0.3; the same errors beside the
+// silhouette do not. A covered pixel 7 pixels from anything the reference
+// covers is a speck, one 2 pixels away is not.
+TEST(Compare, OutliersAwayFromSilhouettesAndIsolatedSpecks) {
+  // Reference: columns 0..9 covered (alpha 1), 10..19 empty; a sharp edge.
+  const Image ref =
+      make_image(20, 12, [](int x, int) { return x < 10 ? glm::vec4(0.5f, 0.5f, 0.5f, 1) : glm::vec4(0); });
+  const Image ours = make_image(20, 12, [](int x, int y) {
+    if (x == 4 && y == 6) return glm::vec4(1.0f, 1.0f, 1.0f, 1);      // off by 0.5, interior
+    if (x == 9 && y == 3) return glm::vec4(1.0f, 1.0f, 1.0f, 1);      // off by 0.5, on the silhouette
+    if (x == 11 && y == 8) return glm::vec4(0.3f, 0.3f, 0.3f, 0.3f);  // covered, 2 pixels from the edge
+    if (x == 16 && y == 5) return glm::vec4(0.3f, 0.3f, 0.3f, 0.3f);  // covered, isolated
+    return x < 10 ? glm::vec4(0.5f, 0.5f, 0.5f, 1) : glm::vec4(0);
+  });
+  const ImageErrors e = compare_images(ours, ref);
+  // Columns 9 and 10 are silhouettes; widened by a pixel: 8..11 are not interior.
+  EXPECT_EQ(e.interior_pixels, uint64_t((20 - 4) * 12));
+  EXPECT_EQ(e.outliers, 2u);
+  ASSERT_TRUE(e.specks.has_value());
+  EXPECT_EQ(*e.specks, 1u);
+  // 4 of 240 pixels are off: the 99.9th percentile is the largest error, 0.5.
+  EXPECT_NEAR(e.p999_error, 0.5, 1e-6);
+  EXPECT_NEAR(e.outlier_share(), 2.0 / double(e.interior_pixels), 1e-12);
+  // Without alpha: every pixel is away from silhouettes, no speck figure.
+  const ImageErrors n = compare_images(make_image(
+                                           4, 4, [](int, int) { return glm::vec4(0.2f); }, false),
+                                       make_image(
+                                           4, 4, [](int, int) { return glm::vec4(0.6f); }, false));
+  EXPECT_EQ(n.interior_pixels, 16u);
+  EXPECT_EQ(n.outliers, 16u);
+  EXPECT_FALSE(n.specks.has_value());
+}
+
 TEST(Compare, RefusesMismatchedOrBrokenImagesNamingThem) {
   Image a = make_image(4, 3, [](int, int) { return glm::vec4(0.5f); });
   Image b = make_image(3, 4, [](int, int) { return glm::vec4(0.5f); });

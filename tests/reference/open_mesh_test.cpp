@@ -94,7 +94,8 @@ struct Case {
   MeshArrays (*make)();
   const char* view;
   double relmse;     // bound
-  double off_share;  // bound on the share of interior pixels off by more than 0.25
+  double off_share;  // bound on the share of pixels away from silhouettes off by more than 0.25
+  uint64_t specks;   // bound on the pixels covered 3 or more pixels away from the reference's coverage
 };
 
 class OpenMesh : public testing::TestWithParam<Case> {};
@@ -120,43 +121,33 @@ TEST_P(OpenMesh, MatchesItsReference) {
   rs.spp = 16;
   const render::Image truth = render::frame_image(render_reference(*mesh_geometry(std::move(mesh)), rs));
   const ImageErrors e = compare_images(ours, truth);
-  // Away from silhouettes (the reference's, widened by a pixel): no pixel
-  // off by more than 0.25 in any channel.
-  const std::vector<uint8_t> edge = silhouette_mask(truth);
-  const int w = int(s.width), h = int(s.height);
-  int off = 0, interior = 0;
-  for (int y = 1; y + 1 < h; ++y)
-    for (int x = 1; x + 1 < w; ++x) {
-      bool near_edge = false;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) near_edge = near_edge || edge[size_t((y + dy) * w + x + dx)];
-      if (near_edge) continue;
-      ++interior;
-      float worst = 0;
-      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(ours.at(x, y, k) - truth.at(x, y, k)));
-      if (worst > 0.25f && ++off <= 5) std::printf("%s %s: pixel %d,%d off by %.3f\n", c.name, c.view, x, y, worst);
-    }
-  std::printf("%s %s: relMSE %.4f, %d of %d interior pixels off by > 0.25\n", c.name, c.view, e.relmse, off, interior);
+  std::printf("%s %s: relMSE %.4f, %llu of %llu pixels away from silhouettes off by more than %.2f, %llu specks\n",
+              c.name, c.view, e.relmse, (unsigned long long)e.outliers, (unsigned long long)e.interior_pixels,
+              kOutlierError, (unsigned long long)e.specks.value_or(0));
   EXPECT_LT(e.relmse, c.relmse);
-  EXPECT_LE(off, int(c.off_share * interior));
+  EXPECT_LE(double(e.outliers), c.off_share * double(e.interior_pixels));
+  ASSERT_TRUE(e.specks.has_value());
+  EXPECT_LE(*e.specks, c.specks);
 }
 
-INSTANTIATE_TEST_SUITE_P(Meshes, OpenMesh,
-                         // Up close, what the issue asks: within relMSE 0.01, no pixel
-                         // off. From afar, what remains (measured: relMSE 3.06, 2.35,
-                         // 1.63, mostly on silhouettes, which the shell widens by a
-                         // voxel; 5, 231 and 0 pixels off, on the box's rim and the
-                         // bowl's, which the reference draws without thickness).
-                         testing::Values(Case{"lidless-box", lidless_box, "close", 0.01, 0},
-                                         Case{"bowl", bowl, "close", 0.01, 0}, Case{"sheet", sheet, "close", 0.01, 0},
-                                         Case{"lidless-box", lidless_box, "far", 4.0, 0.002},
-                                         Case{"bowl", bowl, "mid", 3.0, 0.035}, Case{"sheet", sheet, "far", 2.2, 0.002}),
-                         [](const testing::TestParamInfo<Case>& info) {
-                           std::string n = std::string(info.param.name) + "_" + info.param.view;
-                           for (char& ch : n)
-                             if (ch == '-') ch = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Meshes, OpenMesh,
+    // Up close, what the issue asks: within relMSE 0.01, no pixel
+    // off, no speck. From afar, what remains (measured: relMSE
+    // 3.06, 2.35, 1.63, mostly on silhouettes, which the shell
+    // widens by a voxel; 5, 245 and 0 pixels off, on the box's
+    // rim and the bowl's, which the reference draws without
+    // thickness; the bowl's rim, a voxel of 4.5 pixels wide
+    // here, covers 47 pixels beyond the reference's).
+    testing::Values(Case{"lidless-box", lidless_box, "close", 0.01, 0, 0}, Case{"bowl", bowl, "close", 0.01, 0, 0},
+                    Case{"sheet", sheet, "close", 0.01, 0, 0}, Case{"lidless-box", lidless_box, "far", 4.0, 0.002, 0},
+                    Case{"bowl", bowl, "mid", 3.0, 0.035, 60}, Case{"sheet", sheet, "far", 2.2, 0.002, 0}),
+    [](const testing::TestParamInfo<Case>& info) {
+      std::string n = std::string(info.param.name) + "_" + info.param.view;
+      for (char& ch : n)
+        if (ch == '-') ch = '_';
+      return n;
+    });
 
 }  // namespace
 }  // namespace svo::reference

@@ -9,10 +9,10 @@
 #include <glm/geometric.hpp>
 
 #include "common/shared_math.h"
+#include "lattice_points.h"
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
 #include "svo/voxelizer/scenes.h"
-#include "lattice_points.h"
 
 namespace {
 using namespace svo;

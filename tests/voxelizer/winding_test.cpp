@@ -2,13 +2,13 @@
 // a known answer, and the fast approximation against the exact sum.
 #include "svo/voxelizer/winding.h"
 
-#include "svo/voxelizer/mesh.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <random>
+
+#include "svo/voxelizer/mesh.h"
 
 namespace {
 using svo::voxelizer::WindingNumber;

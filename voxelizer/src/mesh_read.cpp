@@ -786,8 +786,9 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
                     100 * shares.closed, 100 * shares.bounds_volume, 100 * (1 - shares.bounds_volume));
       options.warning(path + ": not a closed manifold surface (" + std::to_string(out.open_edges) + " open edges, " +
                       std::to_string(out.nonmanifold_edges) + " non-manifold edges): " +
-                      (out.two_sided ? "drawn two-sided, as a thin shell around every triangle; "
-                                     : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
+                      (out.two_sided
+                           ? "drawn two-sided, as a thin shell around every triangle; "
+                           : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
                       why);
     }
   }

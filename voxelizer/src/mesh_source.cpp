@@ -15,7 +15,6 @@ namespace svo::voxelizer {
 
 namespace {
 
-
 // Closest point to p on triangle (a, b, c), with its barycentric coordinates
 // (Ericson, Real-Time Collision Detection, 5.1.5).
 glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3& bary) {

@@ -1,7 +1,5 @@
 #include "svo/voxelizer/scenes.h"
 
-#include "svo/voxelizer/sine_bumps.h"
-
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -9,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/shared_math.h"
+#include "svo/voxelizer/sine_bumps.h"
 
 namespace svo::voxelizer {
 

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
-#include <vector>
 #include <glm/geometric.hpp>
 #include <glm/mat2x2.hpp>
 #include <glm/matrix.hpp>
+#include <utility>
+#include <vector>
 
 #include "common/shared_math.h"
 #include "svo/voxelizer/source.h"

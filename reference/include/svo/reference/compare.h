@@ -28,7 +28,23 @@ struct ImageErrors {
   // without alpha or when the reference has no silhouette pixel.
   std::optional<double> coverage_error_silhouette;
   uint64_t silhouette_pixels = 0;
+  // Outliers, which averages hide (issue 20). The per-pixel error is
+  // sqrt(mean over R, G, B of (a - b)^2), what error_image shows:
+  double p999_error = 0;  // its 99.9th percentile over all pixels
+  // Pixels more than a pixel away from the reference's silhouette pixels
+  // (silhouette_mask: all pixels without alpha), and those of them whose
+  // error exceeds kOutlierError.
+  uint64_t interior_pixels = 0;
+  uint64_t outliers = 0;
+  // Isolated specks: pixels the image covers (alpha above 0.05) where the
+  // reference covers nothing within 2 pixels (alpha 0 in the 5x5 window);
+  // nullopt without alpha.
+  std::optional<uint64_t> specks;
+  double outlier_share() const { return interior_pixels ? double(outliers) / double(interior_pixels) : 0.0; }
 };
+
+// The per-pixel error above which a pixel away from silhouettes is an outlier.
+inline constexpr double kOutlierError = 0.25;
 
 // Silhouette pixels of a reference's coverage: alpha strictly between 0.02
 // and 0.98 (partly covered), or a 4-neighbour whose alpha differs by more

@@ -61,9 +61,9 @@ struct TriangleMesh {
   std::vector<Texture> textures;
   std::vector<uint32_t> face_material;  // index into materials per triangle; empty: material 0 everywhere
   std::vector<std::string> materials;   // JSON texts (DESIGN 10.2); empty: none of its own
-  size_t degenerate = 0;         // faces skipped for zero area
-  size_t open_edges = 0;         // edges of exactly one kept triangle (0: closed)
-  size_t nonmanifold_edges = 0;  // edges of three or more kept triangles
+  size_t degenerate = 0;                // faces skipped for zero area
+  size_t open_edges = 0;                // edges of exactly one kept triangle (0: closed)
+  size_t nonmanifold_edges = 0;         // edges of three or more kept triangles
   // Drawn two-sided, as a thin shell around every triangle (both sides
   // outside, as the reference's double-sided triangles are): a surface with
   // open or non-manifold edges whose generalized winding number is within
@@ -72,7 +72,7 @@ struct TriangleMesh {
   // and the lion's open head, not the Chinese dragon's six open edges).
   // Else a solid (OpenVDB's flood fill decides inside and outside).
   bool two_sided = false;
-  double area = 0;        // scene units squared
+  double area = 0;  // scene units squared
   float sigma_rho2 = 0.01f;
   Box bounds;
 
@@ -91,8 +91,8 @@ struct MeshArrays {
   std::vector<std::array<glm::vec2, 3>> face_uv;  // empty, or one per triangle
   std::vector<int> face_texture;                  // empty, or one per triangle: index into textures or -1
   std::vector<Texture> textures;
-  std::vector<uint32_t> face_material;            // empty, or one per triangle: index into materials
-  std::vector<std::string> materials;             // JSON texts (at most 255)
+  std::vector<uint32_t> face_material;  // empty, or one per triangle: index into materials
+  std::vector<std::string> materials;   // JSON texts (at most 255)
 };
 
 // Checks and repairs parsed mesh data into a TriangleMesh; `path` names the
