@@ -19,6 +19,7 @@ struct CompareArgs {
   std::string reference;
   std::string diff;
   double diff_scale = 0;
+  double diff_percentile = 0;  // > 0: the diff's scale at this percentile of the per-pixel error
   bool json = false;
 };
 
@@ -47,10 +48,18 @@ void add_compare_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   cmd->add_option("--diff", a->diff,
                   "Also write the per-pixel error sqrt(mean over RGB (a-b)^2) in false colour (.png or .exr): "
-                  "black 0, purple, orange, pale yellow at the scale")
+                  "black 0, purple, orange, pale yellow at the scale, with a colour bar below (0 left, the "
+                  "scale right; the scale is printed)")
       ->group("Output");
-  cmd->add_option("--diff-scale", a->diff_scale, "Error shown as the top of the colour map (default: the largest)")
-      ->check(CLI::PositiveNumber)
+  auto* scale_option =
+      cmd->add_option("--diff-scale", a->diff_scale, "Error shown as the top of the colour map (default: the largest)")
+          ->check(CLI::PositiveNumber)
+          ->group("Output");
+  cmd->add_option("--diff-percentile", a->diff_percentile,
+                  "The top of the colour map at this percentile of the per-pixel error instead (e.g. 99.9: a few "
+                  "outliers do not darken the rest)")
+      ->check(CLI::Range(0.001, 100.0))
+      ->excludes(scale_option)
       ->group("Output");
 
   cmd->callback([a, &exit_code] {
@@ -63,8 +72,9 @@ void add_compare_command(CLI::App& app, int& exit_code) {
     const reference::ImageErrors e = reference::compare_images(image, reference, a->image, a->reference);
     double scale = a->diff_scale;
     if (!a->diff.empty()) {
+      if (a->diff_percentile > 0) scale = reference::pixel_error_quantile(image, reference, a->diff_percentile / 100);
       if (!(scale > 0)) scale = reference::max_pixel_error(image, reference);
-      render::write_colour(a->diff, reference::error_image(image, reference, scale));
+      render::write_colour(a->diff, reference::with_colour_bar(reference::error_image(image, reference, scale)));
     }
     if (a->json) {
       nlohmann::json out{{"image", a->image},
@@ -100,6 +110,7 @@ void add_compare_command(CLI::App& app, int& exit_code) {
       std::cout << "; 99.9th percentile error " << e.p999_error << ", " << e.outliers << " of " << e.interior_pixels
                 << " pixels away from silhouettes off by more than " << reference::kOutlierError;
       if (e.specks) std::cout << ", " << *e.specks << " specks";
+      if (!a->diff.empty()) std::cout << "; " << a->diff << " at scale " << scale;
       std::cout << "\n";
     }
     exit_code = 0;

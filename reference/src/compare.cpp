@@ -96,6 +96,14 @@ std::vector<uint8_t> silhouette_mask(const Image& reference) {
 namespace {
 
 // The outlier figures of ImageErrors (p999_error, interior_pixels, outliers, specks).
+// The q-quantile of `errors` (reordered), q in (0, 1].
+double quantile(std::vector<double>& errors, double q) {
+  if (errors.empty()) return 0;
+  const size_t k = std::min(errors.size() - 1, size_t(std::max(1.0, std::ceil(q * double(errors.size())))) - 1);
+  std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
+  return errors[k];
+}
+
 void outliers(const Image& image, const std::array<int, 3>& ca, int aa, const Image& reference,
               const std::array<int, 3>& cb, int ab, const std::vector<uint8_t>& silhouette, ImageErrors& e) {
   const int w = image.width, h = image.height;
@@ -124,11 +132,7 @@ void outliers(const Image& image, const std::array<int, 3>& ca, int aa, const Im
     }
   }
   if (aa >= 0 && ab >= 0) e.specks = specks;
-  if (!errors.empty()) {
-    const size_t k = std::min(errors.size() - 1, size_t(std::ceil(0.999 * double(errors.size()))) - 1);
-    std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
-    e.p999_error = errors[k];
-  }
+  e.p999_error = quantile(errors, 0.999);
 }
 
 }  // namespace
@@ -191,6 +195,29 @@ double max_pixel_error(const Image& image, const Image& reference) {
     for (int x = 0; x < image.width; ++x) worst = std::max(worst, pixel_mse(image, ca, reference, cb, x, y));
   }
   return std::sqrt(worst);
+}
+
+double pixel_error_quantile(const Image& image, const Image& reference, double q) {
+  const auto ca = rgb_channels(image, "image"), cb = rgb_channels(reference, "reference");
+  std::vector<double> errors;
+  errors.reserve(size_t(image.width) * size_t(image.height));
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) errors.push_back(std::sqrt(pixel_mse(image, ca, reference, cb, x, y)));
+  }
+  return quantile(errors, q);
+}
+
+render::Frame with_colour_bar(render::Frame frame) {
+  constexpr uint32_t kGap = 4, kBar = 10;
+  const uint32_t w = frame.width;
+  frame.colour.resize(size_t(w) * (frame.height + kGap + kBar), glm::vec4(0, 0, 0, 1));
+  for (uint32_t y = frame.height + kGap; y < frame.height + kGap + kBar; ++y) {
+    for (uint32_t x = 0; x < w; ++x) {
+      frame.colour[size_t(y) * w + x] = glm::vec4(false_colour(w > 1 ? double(x) / double(w - 1) : 1.0), 1.0f);
+    }
+  }
+  frame.height += kGap + kBar;
+  return frame;
 }
 
 glm::vec3 false_colour(double value) {

@@ -143,6 +143,25 @@ TEST(Compare, OutliersAwayFromSilhouettesAndIsolatedSpecks) {
   EXPECT_FALSE(n.specks.has_value());
 }
 
+// The diff's scale at a percentile ignores the outliers above it; the colour
+// bar below the picture runs from black to the top colour.
+TEST(Compare, PercentileScaleAndColourBar) {
+  const Image ref = make_image(10, 10, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1); });
+  const Image ours = make_image(10, 10, [](int x, int y) {
+    const float d = x == 0 && y == 0 ? 0.4f : 0.01f * float(x);  // one outlier, then errors 0 .. 0.09
+    return glm::vec4(0.5f + d, 0.5f + d, 0.5f + d, 1);
+  });
+  EXPECT_NEAR(pixel_error_quantile(ours, ref, 1.0), 0.4, 1e-6);
+  EXPECT_NEAR(pixel_error_quantile(ours, ref, 1.0), max_pixel_error(ours, ref), 1e-9);
+  EXPECT_NEAR(pixel_error_quantile(ours, ref, 0.99), 0.09, 1e-6);
+  const render::Frame bar = with_colour_bar(error_image(ours, ref, 0.09));
+  ASSERT_EQ(bar.width, 10u);
+  ASSERT_EQ(bar.height, 24u);
+  EXPECT_EQ(glm::vec3(bar.colour[size_t(11 * 10)]), glm::vec3(0));  // the gap
+  EXPECT_EQ(glm::vec3(bar.colour[size_t(15 * 10)]), false_colour(0.0));
+  EXPECT_EQ(glm::vec3(bar.colour[size_t(15 * 10 + 9)]), false_colour(1.0));
+}
+
 TEST(Compare, RefusesMismatchedOrBrokenImagesNamingThem) {
   Image a = make_image(4, 3, [](int, int) { return glm::vec4(0.5f); });
   Image b = make_image(3, 4, [](int, int) { return glm::vec4(0.5f); });

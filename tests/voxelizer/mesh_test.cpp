@@ -9,9 +9,9 @@
 #include <fstream>
 #include <glm/geometric.hpp>
 
+#include "lattice_points.h"
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
-#include "lattice_points.h"
 
 namespace {
 using namespace svo;
@@ -284,6 +284,21 @@ TEST(SceneFile, PlacesMeshesAndGivesEachFaceItsMaterial) {
   EXPECT_NEAR(mesh.bounds.hi.x, 11.0, 1e-6);
   EXPECT_NEAR(mesh.area, 10.0 + 6.0, 1e-9);  // the stretched cube 2 x 1 x 1, then the unit cube
   EXPECT_NEAR(mesh.colours.back().z, 0.6f, 1e-6f);
+  EXPECT_FALSE(mesh.two_sided);
+  // A cube without its top beside the closed one: the scene is drawn two-sided.
+  std::string open = "OFF\n8 10 0\n";
+  for (auto& c : kCorners)
+    open += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (int t = 0; t < 12; ++t) {
+    if (t == 2 || t == 3) continue;  // the z = 0.5 face
+    open += "3 " + std::to_string(kTriangles[t][0]) + " " + std::to_string(kTriangles[t][1]) + " " +
+            std::to_string(kTriangles[t][2]) + "\n";
+  }
+  write_file("scene_open.off", open);
+  const std::string mixed = write_file("scene_mixed.json", R"({"materials": {"m": {"brdf": "lambert"}},
+    "objects": [{"mesh": "scene_cube.off", "material": "m"},
+                {"mesh": "scene_open.off", "material": "m", "translate": [3, 0, 0]}]})");
+  EXPECT_TRUE(voxelizer::read_scene_file(mixed).two_sided);
   // A voxelized scene carries the materials and which one each voxel shows.
   voxelizer::VoxelizeOptions options;
   options.resolution = 64;
@@ -321,7 +336,8 @@ TEST(SceneFile, MistakesAreOneLineErrorsNamingTheKey) {
   expect_error("{\"objects\": [", "not JSON");
   // Text from the file stays on one line in messages (found by fuzzing).
   expect_error(R"({"objects": [{"mesh": "scene_cube.off"}], "a\nb": 1})", "unknown key 'a\\x0Ab'");
-  expect_error(R"({"objects": [{"mesh": "a\nb.off"}]})", "key 'mesh': the path 'a\\x0Ab.off' holds a control character");
+  expect_error(R"({"objects": [{"mesh": "a\nb.off"}]})",
+               "key 'mesh': the path 'a\\x0Ab.off' holds a control character");
   // A device or FIFO named as a mesh is refused before it is read (it would hang).
   try {
     voxelizer::read_scene_file(write_file("dev_scene.json", R"({"objects": [{"mesh": "/dev/zero"}]})"));
@@ -342,7 +358,8 @@ TEST(Mesh, UsemtlGroupsBecomeMaterials) {
              "newmtl shiny\nKd 0.5 0.25 1\nKs 0.9 0.9 0.9\nNs 250\n"
              "newmtl rough\nKd 0.2 0.2 0.2\nPr 0.4\n");
   std::string obj = "mtllib groups.mtl\n";
-  for (auto& c : kCorners) obj += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (auto& c : kCorners)
+    obj += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
   // The first face before any usemtl, then four quads (two triangles each) of shiny, then the rest.
   obj += "f 1 3 2\nusemtl shiny\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nusemtl rough\nf 1 4 3\nf 1 5 8\nf 1 8 4\n";
   const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(write_file("groups.obj", obj));
@@ -356,8 +373,8 @@ TEST(Mesh, UsemtlGroupsBecomeMaterials) {
   EXPECT_EQ(mesh.face_material, expected);
   // A scene file object without a material keeps the mesh's own.
   write_file("scene_cube.off", cube_off());
-  const voxelizer::TriangleMesh scene = voxelizer::read_scene_file(write_file(
-      "groups_scene.json", R"({"materials": {"a": {"brdf": "lambert"}},
+  const voxelizer::TriangleMesh scene =
+      voxelizer::read_scene_file(write_file("groups_scene.json", R"({"materials": {"a": {"brdf": "lambert"}},
         "objects": [{"mesh": "scene_cube.off", "material": "a"}, {"mesh": "groups.obj", "translate": [3, 0, 0]}]})"));
   ASSERT_EQ(scene.materials.size(), 4u);
   ASSERT_EQ(scene.face_material.size(), 24u);

@@ -34,9 +34,7 @@ float FineBumpySphere::bump(glm::vec3 dir) const { return bumps_.height(dir); }
 
 float FineBumpySphere::distance(glm::vec3 p) const { return bumps_.sphere_distance(p, o_.radius); }
 
-glm::vec4 FineBumpySphere::distance_gradient(glm::vec3 p) const {
-  return bumps_.sphere_distance_gradient(p, o_.radius);
-}
+glm::vec4 FineBumpySphere::distance_gradient(glm::vec3 p) const { return bumps_.sphere_distance_gradient(p, o_.radius); }
 
 glm::vec3 FineBumpySphere::colour(glm::vec3 q) const {
   float r = glm::length(q);

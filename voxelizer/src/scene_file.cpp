@@ -139,6 +139,9 @@ void append(TriangleMesh& out, TriangleMesh part, const glm::dmat4& m, uint32_t 
   out.degenerate += part.degenerate;
   out.open_edges += part.open_edges;
   out.nonmanifold_edges += part.nonmanifold_edges;
+  // One object with large holes makes the scene two-sided (its closed
+  // objects then too: a shell around each of their triangles).
+  out.two_sided = out.two_sided || part.two_sided;
   out.sigma_rho2 = std::max(out.sigma_rho2, part.sigma_rho2);
 }
 
@@ -168,8 +171,9 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
       names.push_back(m.key());
       if (m->is_string()) {
         const fs::path file = path_of(*m, folder, where, "materials");
-        out.materials.push_back(material_text(parse_json(read_small_file(file, at), at + " (" + file.string() + ")"),
-                                              fs::absolute(file).parent_path(), at));
+        out.materials.push_back(
+            material_text(parse_json(read_small_file(file, at), at + " (" + file.string() + ")"),
+                          fs::absolute(file).parent_path(), at));
       } else {
         out.materials.push_back(material_text(*m, folder, at));
       }
@@ -252,8 +256,8 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
   }
   out.bounds = {glm::vec3(lo), glm::vec3(hi)};
   if (out.materials.size() > kMaxSceneMaterials) {
-    throw std::runtime_error(where + ": " + std::to_string(out.materials.size()) +
-                             " materials with the meshes' own (at most " + std::to_string(kMaxSceneMaterials) + ")");
+    throw std::runtime_error(where + ": " + std::to_string(out.materials.size()) + " materials with the meshes' own (at most " +
+                             std::to_string(kMaxSceneMaterials) + ")");
   }
   if (without >= 0 && !out.materials.empty()) {
     throw std::runtime_error(where + ": object " + std::to_string(without) +

@@ -1,5 +1,7 @@
 #include "svo/voxelizer/scenes.h"
 
+#include "svo/voxelizer/sine_bumps.h"
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -7,7 +9,6 @@
 #include <stdexcept>
 
 #include "common/shared_math.h"
-#include "svo/voxelizer/sine_bumps.h"
 
 namespace svo::voxelizer {
 

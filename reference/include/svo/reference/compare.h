@@ -74,5 +74,11 @@ render::Frame error_image(const render::Image& image, const render::Image& refer
 
 // The largest per-pixel error error_image would show (its default scale).
 double max_pixel_error(const render::Image& image, const render::Image& reference);
+// Its q-quantile (q in (0, 1]; 1: the largest), a scale that outliers do not set.
+double pixel_error_quantile(const render::Image& image, const render::Image& reference, double q);
+
+// `frame` (an error_image) with a colour bar below it: 4 black rows, then
+// 10 rows of the colour map from 0 (left) to the scale (right).
+render::Frame with_colour_bar(render::Frame frame);
 
 }  // namespace svo::reference

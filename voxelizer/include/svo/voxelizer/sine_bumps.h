@@ -6,11 +6,12 @@
 // figure benches are both a sphere of radius R displaced by such bumps.
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <vector>
+
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
-#include <random>
-#include <vector>
 
 namespace svo::voxelizer {
 
