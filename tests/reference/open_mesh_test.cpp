@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <glm/geometric.hpp>
 
+#include "grid_mesh.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
@@ -24,27 +25,14 @@ namespace {
 
 using voxelizer::MeshArrays;
 
-// An n x n grid of quads from `origin` along u and v (u x v is the front).
-void grid(MeshArrays& m, glm::dvec3 origin, glm::dvec3 u, glm::dvec3 v, int n) {
-  const int base = int(m.positions.size());
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.positions.push_back(origin + u * (double(i) / n) + v * (double(j) / n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = base + j * (n + 1) + i, c = a + n + 1;
-      m.triangles.emplace_back(a, a + 1, c + 1);
-      m.triangles.emplace_back(a, c + 1, c);
-    }
-}
-
 // The unit cube without its top (y = 1), outward.
 MeshArrays lidless_box() {
   MeshArrays m;
-  grid(m, {0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 4);
-  grid(m, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, 4);
-  grid(m, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 4);
-  grid(m, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 4);
-  grid(m, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4);
+  test::add_grid(m, {0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 4);
+  test::add_grid(m, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, 4);
+  test::add_grid(m, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 4);
+  test::add_grid(m, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 4);
+  test::add_grid(m, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4);
   return m;
 }
 

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <random>
 
+#include "grid_mesh.h"
 #include "svo/voxelizer/mesh.h"
 
 namespace {
@@ -18,32 +19,18 @@ using svo::voxelizer::WindingNumber;
 // 1/4, far above it.
 constexpr double kFast = 0.04;
 
-struct Soup {
-  std::vector<glm::dvec3> positions;
-  std::vector<glm::ivec3> triangles;
-};
+using Soup = svo::voxelizer::MeshArrays;  // positions and triangles only
 
 // The unit cube [0, 1]^3, outward, each face an n x n grid of quads; without
 // its top face (z = 1) when `lid` is false.
 Soup grid_box(int n, bool lid) {
   Soup s;
-  auto face = [&](glm::dvec3 origin, glm::dvec3 u, glm::dvec3 v) {  // u x v points outward
-    const int base = int(s.positions.size());
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) s.positions.push_back(origin + u * (double(i) / n) + v * (double(j) / n));
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-        s.triangles.emplace_back(a, b, d);
-        s.triangles.emplace_back(a, d, c);
-      }
-  };
-  face({0, 0, 0}, {0, 1, 0}, {1, 0, 0});  // bottom, -z
-  if (lid) face({0, 0, 1}, {1, 0, 0}, {0, 1, 0});
-  face({0, 0, 0}, {1, 0, 0}, {0, 0, 1});  // -y
-  face({0, 1, 0}, {0, 0, 1}, {1, 0, 0});  // +y
-  face({0, 0, 0}, {0, 0, 1}, {0, 1, 0});  // -x
-  face({1, 0, 0}, {0, 1, 0}, {0, 0, 1});  // +x
+  svo::test::add_grid(s, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, n);  // bottom, -z
+  if (lid) svo::test::add_grid(s, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, n);
+  svo::test::add_grid(s, {0, 0, 0}, {1, 0, 0}, {0, 0, 1}, n);  // -y
+  svo::test::add_grid(s, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}, n);  // +y
+  svo::test::add_grid(s, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, n);  // -x
+  svo::test::add_grid(s, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, n);  // +x
   return s;
 }
 
@@ -125,11 +112,8 @@ TEST(Winding, FastMatchesExactOnRandomPoints) {
 // What make_triangle_mesh decides: a box with one small triangle missing is
 // drawn as a solid; without its lid, or as a sheet, two-sided.
 TEST(Winding, SmallHolesKeepASolidLargeOnesDrawTwoSided) {
-  auto decide = [](Soup s, bool drop_one) {
-    if (drop_one) s.triangles.pop_back();
-    svo::voxelizer::MeshArrays m;
-    m.positions = s.positions;
-    m.triangles = s.triangles;
+  auto decide = [](Soup m, bool drop_one) {
+    if (drop_one) m.triangles.pop_back();
     std::string warning;
     svo::voxelizer::MeshOptions o;
     o.warning = [&](const std::string& w) { warning = w; };

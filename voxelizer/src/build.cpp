@@ -403,7 +403,7 @@ struct Builder {
                   v.material = p.material;
                 } else {
                   glm::vec3 n(0), a(0);
-                  int count = 0, sheets = 0;
+                  int count = 0;
                   for (int k = 0; k < 27; ++k) {
                     int qx = x + k % 3 - 1, qy = y + (k / 3) % 3 - 1, qz = z + k / 9 - 1;
                     if (qx < 0 || qy < 0 || qz < 0 || qx >= S || qy >= S || qz >= S) continue;

@@ -35,9 +35,10 @@ constexpr float kBandVoxels = 3.0f;
 // voxels of each level. The normal turns around inside the shell, halfway;
 // trilinear interpolation near a face then mixes in corners from beyond the
 // turn, whose opposite normals darken the shading (specks): a thickness of
-// 1.5 left dark specks over the lion's face at 128x128, 2 almost none, 2.5
-// none, and each half voxel more fattens silhouettes (docs/RESULTS.md,
-// "Open meshes"). Above 1, the interpolation always dips below zero.
+// 1.5 left dark specks all over the lion's face (at 128x128 and 512x512),
+// 2 a few isolated dots that 2.5 does not remove either, and each half
+// voxel more widens silhouettes (docs/RESULTS.md, "Open meshes"). Above 1,
+// the interpolation always dips below zero.
 constexpr float kShellVoxels = 2.0f;
 
 struct FinePoint {

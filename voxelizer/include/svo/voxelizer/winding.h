@@ -20,8 +20,10 @@ namespace svo::voxelizer {
 class WindingNumber {
  public:
   // `accuracy` is Barill's beta: a cluster of radius r is replaced by its
-  // dipole when the query is farther than beta r from its centroid (2: error
-  // around 1e-3 on the meshes we tried; larger is slower and more accurate).
+  // expansion when the query is farther than beta r from its centroid.
+  // Measured against the exact sum: at most 0.025-0.027 at beta 2 (5 us a
+  // query on the lion's 14,859 triangles), 0.009-0.010 at 3 (10 us); the
+  // voxelizer's decisions have margins of 0.05 and more.
   WindingNumber(const std::vector<glm::dvec3>& positions, const std::vector<glm::ivec3>& triangles,
                 double accuracy = 2.0);
 
