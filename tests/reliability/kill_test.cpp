@@ -2,22 +2,17 @@
 // in the middle of writing, or stopped by a full disk, leave the earlier
 // file of the same name byte-identical and no partial file under that name
 // (label: cli). The `svo` executable is SVO_EXE.
-#include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <fstream>
 #include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "reliability/run_svo.h"
 #include "render/temp_dir.h"
 
 namespace {
@@ -25,91 +20,23 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::vector<char> bytes_of(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// A running `svo`, its stderr read through a pipe.
-struct Child {
-  pid_t pid = -1;
-  int err = -1;
-};
-
-struct Limits {
-  bool stall = false;            // SVO_TEST_STALL_WRITE=1
-  rlim_t file_size = RLIM_INFINITY;  // RLIMIT_FSIZE (SIGXFSZ ignored): a full disk
-};
-
-Child start(const std::vector<std::string>& args, const Limits& limits = {}) {
-  int fds[2];
-  if (::pipe(fds) != 0) throw std::runtime_error("pipe failed");
-  Child c;
-  c.pid = ::fork();
-  if (c.pid < 0) throw std::runtime_error("fork failed");
-  if (c.pid == 0) {
-    ::dup2(fds[1], 2);
-    int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, 1);
-    ::close(fds[0]);
-    ::close(fds[1]);
-    if (limits.stall) ::setenv("SVO_TEST_STALL_WRITE", "1", 1);
-    if (limits.file_size != RLIM_INFINITY) {
-      ::signal(SIGXFSZ, SIG_IGN);
-      rlimit r{limits.file_size, limits.file_size};
-      ::setrlimit(RLIMIT_FSIZE, &r);
-    }
-    std::vector<char*> argv{const_cast<char*>(SVO_EXE)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(SVO_EXE, argv.data());
-    ::_exit(127);
-  }
-  ::close(fds[1]);
-  c.err = fds[0];
-  return c;
-}
-
-// Reads the child's stderr until `needle` appears (true) or it ends or the time runs out (false).
-bool wait_for(const Child& c, const std::string& needle, std::string& seen, double seconds) {
-  auto end = Clock::now() + std::chrono::duration<double>(seconds);
-  while (Clock::now() < end) {
-    pollfd p{c.err, POLLIN, 0};
-    if (::poll(&p, 1, 100) <= 0) continue;
-    char buffer[512];
-    ssize_t n = ::read(c.err, buffer, sizeof buffer);
-    if (n <= 0) return seen.find(needle) != std::string::npos;
-    seen.append(buffer, size_t(n));
-    if (seen.find(needle) != std::string::npos) return true;
-  }
-  return false;
-}
+using svo::testing::bytes_of;
+using svo::testing::Child;
+using svo::testing::entries;
+using svo::testing::Limits;
+using svo::testing::start;
+using svo::testing::wait_for;
 
 // Waits for the child; returns its exit status, or 128 + signal; its stderr in `seen`.
-int finish(Child& c, std::string& seen) {
-  char buffer[512];
-  ssize_t n;
-  while ((n = ::read(c.err, buffer, sizeof buffer)) > 0) seen.append(buffer, size_t(n));
-  ::close(c.err);
-  int status = 0;
-  ::waitpid(c.pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+int finished(Child& c, std::string& seen) {
+  svo::testing::Outcome o = svo::testing::finish(c, seen);
+  seen = o.err;
+  return o.status;
 }
 
 int run(const std::vector<std::string>& args, std::string& seen, const Limits& limits = {}) {
   Child c = start(args, limits);
-  return finish(c, seen);
-}
-
-// The files of `dir` whose names start with `name`.
-std::vector<std::string> entries(const fs::path& dir, const std::string& name) {
-  std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::string n = e.path().filename().string();
-    if (n.rfind(name, 0) == 0) out.push_back(n);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
+  return finished(c, seen);
 }
 
 std::vector<std::string> voxelize(const std::string& scene, const std::string& out) {
@@ -131,7 +58,7 @@ TEST(Kill, VoxelizeKilledMidWriteKeepsTheEarlierFile) {
   std::string seen;
   const bool stalled = wait_for(c, "stalled writing", seen, 120);
   ::kill(c.pid, SIGKILL);
-  EXPECT_EQ(finish(c, seen), 128 + SIGKILL) << seen;
+  EXPECT_EQ(finished(c, seen), 128 + SIGKILL) << seen;
   ASSERT_TRUE(stalled) << seen;
   EXPECT_EQ(bytes_of(out), before) << "the earlier out.svo changed";
   auto names = entries(dir.path(), "out.svo");
@@ -160,7 +87,7 @@ TEST(Kill, RenderKilledMidWriteKeepsTheEarlierImages) {
     std::string seen;
     const bool stalled = wait_for(c, "stalled writing", seen, 120);
     ::kill(c.pid, SIGKILL);
-    EXPECT_EQ(finish(c, seen), 128 + SIGKILL) << seen;
+    EXPECT_EQ(finished(c, seen), 128 + SIGKILL) << seen;
     ASSERT_TRUE(stalled) << seen;
     EXPECT_EQ(bytes_of(image), before) << image << " changed";
     auto names = entries(dir.path(), "frame" + ext);
@@ -194,7 +121,7 @@ TEST(Kill, VoxelizeKilledAtRandomTimesIsOldOrNew) {
     std::this_thread::sleep_for(std::chrono::duration<double>(seconds * 1.1 * (trial + std::uniform_real_distribution<double>(0, 1)(random)) / 8));
     ::kill(c.pid, SIGKILL);
     std::string seen;
-    finish(c, seen);
+    finished(c, seen);
     const auto now = bytes_of(out);
     if (now == old_bytes) {
       ++old_kept;
