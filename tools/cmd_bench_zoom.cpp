@@ -29,6 +29,7 @@
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
@@ -228,7 +229,7 @@ void run_zoom(const ZoomArgs& a) {
         << r.centre_reference.g << "," << r.centre_reference.b << "," << r.colour_shift << "," << r.relmse << ","
         << r.reference_s << "\n";
   }
-  write_text_atomically((dir / "coherence.csv").string(), csv.str());
+  files::write_file((dir / "coherence.csv").string(), csv.str());
 
   nlohmann::json j;
   j["octree"] = a.octree;
@@ -269,7 +270,7 @@ void run_zoom(const ZoomArgs& a) {
     }
     j["rows"].push_back(row);
   }
-  write_text_atomically((dir / "coherence.json").string(), j.dump(2) + "\n");
+  files::write_file((dir / "coherence.json").string(), j.dump(2) + "\n");
 
   std::ostringstream md;
   md << "Octree " << a.octree << " (" << file_bytes << " bytes), ground truth of " << source_name(a.source) << " at "
@@ -290,7 +291,7 @@ void run_zoom(const ZoomArgs& a) {
      << ", largest " << fmt(ratio_max, 2) << " (frame " << ratio_frame << "). Ground-truth noise (last frame, two "
      << "seeds): " << sci(noise) << ". Colour shift of the centre window: mean " << fmt(100 * shift_sum / n, 2)
      << "%, largest " << fmt(100 * shift_max, 2) << "% (frame " << shift_frame << ").\n";
-  write_text_atomically((dir / "table.md").string(), md.str());
+  files::write_file((dir / "table.md").string(), md.str());
 
   if (!strip_ours.empty()) {
     std::vector<const render::Frame*> top, bottom;

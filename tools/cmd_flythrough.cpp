@@ -4,6 +4,7 @@
 // frames, and a video when ffmpeg is installed. Every argument, the path
 // file and the outputs are checked before the octree is loaded.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@
 
 #include "commands.h"
 #include "progress.h"
+#include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
@@ -73,6 +75,33 @@ std::string quoted(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
+}
+
+// ffmpeg's container for a video name: the temporary ffmpeg writes has no
+// extension to go by.
+std::string container_of(const std::string& video) {
+  std::string ext = fs::path(video).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".mp4" || ext == ".m4v") return "mp4";
+  if (ext == ".mov") return "mov";
+  if (ext == ".mkv") return "matroska";
+  throw std::invalid_argument("--video " + video + ": unknown video extension '" + ext + "' (use .mp4, .mov or .mkv)");
+}
+
+// A frame written by a flythrough: frame_ and digits, .png.
+bool is_frame_name(const std::string& name) {
+  if (name.size() < 11 || name.rfind("frame_", 0) != 0 || !name.ends_with(".png")) return false;
+  return std::all_of(name.begin() + 6, name.end() - 4, [](unsigned char c) { return std::isdigit(c); });
+}
+
+// Moves the finished run's files from `stage` into `dir`, the earlier run's
+// frames removed first, so that DIR holds one run's set.
+void publish(const fs::path& stage, const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (is_frame_name(name) && !fs::exists(stage / name)) fs::remove(e.path());
+  }
+  for (const auto& e : fs::directory_iterator(stage)) fs::rename(e.path(), dir / e.path().filename());
 }
 
 bool have_ffmpeg() { return std::system("command -v ffmpeg > /dev/null 2>&1") == 0; }
@@ -133,7 +162,9 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     }
     check_view_options(a->view);
     std::optional<render::CameraPath> loaded = check_path_options(a->path);
+    std::string video_format;
     if (!a->video.empty()) {
+      video_format = container_of(a->video);
       if (!have_ffmpeg()) {
         throw std::runtime_error("--video " + a->video +
                                  ": ffmpeg is not installed (not on PATH); encode DIR/frame_%04d.png later");
@@ -142,7 +173,13 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     }
     make_output_directory(a->out);
     const fs::path dir(a->out);
-    render::check_writable_output((dir / "frames.csv").string());
+    for (const char* name : {"frames.csv", "path.json", "strip.png"}) files::resolve_output((dir / name).string());
+    // The run's files go to a staging directory inside DIR and replace the
+    // earlier run's set together at the end: a run that is killed or fails
+    // leaves the earlier frames, CSV and path as they were (its staging
+    // directory is removed by the next run).
+    files::StagingDirectory staging(dir, ".flythrough-tmp-");
+    const fs::path& stage = staging.path();
 
     // --- The octree, the path, the device.
     octree::Octree tree = octree::load_svo(a->input);
@@ -150,7 +187,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     const float aspect = float(a->view.width) / float(a->view.height);
     const render::CameraPath path = resolve_path(a->path, loaded, tree, aspect, a->input);
     const std::vector<render::Camera> cameras = render::path_cameras(path);
-    render::save_camera_path((dir / "path.json").string(), path);
+    render::save_camera_path((stage / "path.json").string(), path);
 
     render::RenderSettings settings;
     settings.width = a->view.width;
@@ -185,7 +222,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
         times.push_back(render::frame_ms(frame));
       }
       std::sort(times.begin(), times.end());
-      render::write_colour((dir / frame_name(f)).string(), frame);
+      render::write_colour((stage / frame_name(f)).string(), frame);
       FrameRow row;
       row.frame = f;
       row.distance = glm::length(glm::dvec3(cameras[f].target) - glm::dvec3(cameras[f].eye));
@@ -223,26 +260,26 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
         csv << ",";
       csv << "," << r.level_target << "\n";
     }
-    write_text_atomically((dir / "frames.csv").string(), csv.str());
+    files::write_file((stage / "frames.csv").string(), csv.str());
     if (!strip_frames.empty()) {
       std::vector<const render::Frame*> row;
       for (const auto& f : strip_frames) row.push_back(&f);
-      render::write_colour((dir / "strip.png").string(), make_strip({row}, 256));
+      render::write_colour((stage / "strip.png").string(), make_strip({row}, 256));
     }
     if (!a->video.empty()) {
-      const fs::path video(a->video);
-      const std::string tmp =
-          (video.parent_path() / ("." + video.stem().string() + ".tmp" + video.extension().string())).string();
+      // ffmpeg writes into our exclusively created temporary (never -y onto
+      // a name someone else could have planted), which then replaces the video.
+      files::OutputFile video(a->video);
       const std::string command = "ffmpeg -y -loglevel error -framerate " + std::to_string(a->fps) + " -i " +
-                                  quoted((dir / "frame_%04d.png").string()) + " -frames:v " +
-                                  std::to_string(cameras.size()) + " -c:v libx264 -pix_fmt yuv420p " + quoted(tmp);
+                                  quoted((stage / "frame_%04d.png").string()) + " -frames:v " +
+                                  std::to_string(cameras.size()) + " -c:v libx264 -pix_fmt yuv420p -f " + video_format +
+                                  " " + quoted(video.temporary());
       if (std::system(command.c_str()) != 0) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
         throw std::runtime_error("--video " + a->video + ": ffmpeg failed: " + command);
       }
-      fs::rename(tmp, video);
+      video.commit();
     }
+    publish(stage, dir);
 
     double lo = 0, hi = 0, total_ms = 0;
     bool any = false;

@@ -12,6 +12,7 @@
 #include "memory.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/shading.h"
 #include "svo/voxelizer/build.h"
@@ -47,7 +48,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       "Mesh file: OBJ, PLY, OFF or STL. A mesh with holes is drawn as a solid when they are small (the "
       "generalized winding number is within 0.05 of 0 and 1 on 95% of its area), else two-sided, a thin shell "
       "around every triangle, as svo reference shows it; a warning says which");
-  cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed)")
+  cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed; a symbolic link is written through, a "
+                  "read-only file refused)")
       ->required()
       ->group("Output");
   cmd->add_option("--material", a->material,
@@ -97,13 +99,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       material = render::material_json(m);
     }
     // Refuse an output that cannot be written before minutes of work, not after.
-    std::filesystem::path out_dir = std::filesystem::absolute(a->output).parent_path();
-    if (!std::filesystem::is_directory(out_dir)) {
-      throw std::runtime_error(a->output + ": directory " + out_dir.string() + " does not exist");
-    }
-    if (access(out_dir.c_str(), W_OK) != 0) {
-      throw std::runtime_error(a->output + ": directory " + out_dir.string() + " is not writable");
-    }
+    files::resolve_output(a->output);
     double limit = a->max_memory_mb > 0 ? a->max_memory_mb : available_memory_mb();
     double estimate = voxelizer::estimate_memory_bytes(*source, a->resolution, a->brick) / (1024.0 * 1024.0);
     if (limit > 0 && estimate > limit) {

@@ -179,28 +179,6 @@ std::vector<uint32_t> strip_indices(uint32_t frames, uint32_t count) {
   return out;
 }
 
-void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write (creating " + tmp + ")");
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      throw std::runtime_error(path + ": cannot write (writing " + tmp + ")");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(path + ": cannot write: " + ec.message());
-  }
-}
-
 void make_output_directory(const std::string& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec)) {

@@ -69,10 +69,6 @@ render::Frame make_strip(const std::vector<std::vector<const render::Frame*>>& r
 // `count` frame indices spread evenly over [0, frames - 1], first and last included.
 std::vector<uint32_t> strip_indices(uint32_t frames, uint32_t count);
 
-// Writes `text` to a temporary file beside `path` and renames it over `path`.
-// @throw std::runtime_error "<path>: cannot write".
-void write_text_atomically(const std::string& path, const std::string& text);
-
 // Creates `dir` (and its parents) unless it exists.
 // @throw std::invalid_argument "<dir>: is not a directory" / "<dir>: cannot create: <why>".
 void make_output_directory(const std::string& dir);

@@ -1,10 +1,20 @@
 #include "svo/octree/files.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <system_error>
+#include <utility>
 
 namespace svo::files {
 
@@ -59,6 +69,175 @@ std::string read_bounded(const std::string& path, uintmax_t limit, const std::st
   if (in.bad()) throw FileError(path + ": cannot read: " + std::strerror(errno));
   if (text.size() > limit) throw too_big(text.size());
   return text;
+}
+
+namespace {
+
+std::string parent_of(const fs::path& file) {
+  fs::path dir = file.parent_path();
+  return dir.empty() ? std::string(".") : dir.string();
+}
+
+// True when `name` is `prefix` + "<pid>-..." and that process is gone.
+bool stale(const std::string& name, const std::string& prefix) {
+  if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) return false;
+  const char* first = name.data() + prefix.size();
+  const char* last = name.data() + name.size();
+  long pid = 0;
+  auto [end, ec] = std::from_chars(first, last, pid);
+  if (ec != std::errc() || end == first || end == last || *end != '-' || pid <= 0) return false;
+  if (pid == long(::getpid())) return false;
+  return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+}
+
+}  // namespace
+
+std::string resolve_output(const std::string& path) {
+  if (path.empty()) throw FileError("an empty output file name");
+  struct stat link {};
+  std::string target = path;
+  if (::lstat(path.c_str(), &link) == 0 && S_ISLNK(link.st_mode)) {
+    std::error_code ec;
+    fs::path resolved = fs::canonical(path, ec);
+    if (ec) throw FileError(path + ": a symbolic link to a missing file (" + ec.message() + "); not written");
+    target = resolved.string();
+  }
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0) {
+    std::error_code ignored;
+    if (!S_ISREG(st.st_mode)) {
+      throw FileError(path + ": is " + file_kind(fs::status(target, ignored).type()) +
+                      "; outputs replace only regular files");
+    }
+    if ((st.st_mode & 0222) == 0) {
+      throw FileError(path + ": is read-only; make it writable (chmod u+w) or remove it to replace it");
+    }
+  } else if (errno != ENOENT) {
+    throw FileError(path + ": " + std::strerror(errno));
+  }
+  const std::string dir = parent_of(target);
+  struct stat d {};
+  if (::stat(dir.c_str(), &d) != 0) throw FileError(path + ": directory " + dir + " does not exist");
+  if (!S_ISDIR(d.st_mode)) throw FileError(path + ": " + dir + " is not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) throw FileError(path + ": directory " + dir + " is not writable");
+  return target;
+}
+
+size_t remove_stale_temporaries(const fs::path& dir, const std::string& prefix) {
+  size_t removed = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!stale(it->path().filename().string(), prefix)) continue;
+    std::error_code ignored;
+    if (fs::remove_all(it->path(), ignored) > 0) ++removed;
+  }
+  return removed;
+}
+
+OutputFile::OutputFile(const std::string& path) : path_(path), target_(resolve_output(path)) {
+  const fs::path target(target_);
+  remove_stale_temporaries(target.parent_path(), target.filename().string() + ".tmp-");
+  mode_t mode = 0666;
+  struct stat st {};
+  const bool existing = ::stat(target_.c_str(), &st) == 0;
+  if (existing) mode = st.st_mode & 07777;
+  static std::atomic<unsigned> counter{0};
+  // A name taken (by a planted link, say) is skipped, never opened.
+  for (int attempt = 0; attempt < 64 && fd_ < 0; ++attempt) {
+    temporary_ = target_ + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd_ < 0 && errno != EEXIST) fail("creating " + temporary_, errno);
+  }
+  if (fd_ < 0) fail("creating " + temporary_, EEXIST);
+  // The final mode: an existing file's, else 0666 less the umask.
+  if (!existing) {
+    mode_t mask = ::umask(0);
+    ::umask(mask);
+    mode = 0666 & ~mask;
+  }
+  if (::fchmod(fd_, mode) != 0) {
+    int err = errno;
+    ::close(std::exchange(fd_, -1));
+    ::unlink(temporary_.c_str());
+    fail("setting the mode of " + temporary_, err);
+  }
+}
+
+OutputFile::~OutputFile() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_ && !temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+void OutputFile::fail(const std::string& step, int err) const {
+  throw FileError(path_ + ": cannot write: " + step + ": " + std::strerror(err));
+}
+
+void OutputFile::write(const void* data, size_t size) {
+  const char* p = static_cast<const char*>(data);
+  while (size > 0) {
+    ssize_t w = ::write(fd_, p, size);
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) fail("writing " + temporary_, errno);
+    if (w == 0) fail("writing " + temporary_, ENOSPC);
+    p += w, size -= size_t(w);
+  }
+}
+
+void OutputFile::write_at(const void* data, size_t size, uint64_t offset) {
+  const char* p = static_cast<const char*>(data);
+  while (size > 0) {
+    ssize_t w = ::pwrite(fd_, p, size, off_t(offset));
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) fail("writing " + temporary_, errno);
+    if (w == 0) fail("writing " + temporary_, ENOSPC);
+    p += w, size -= size_t(w), offset += uint64_t(w);
+  }
+}
+
+void OutputFile::commit() {
+  // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_WRITE
+  // set, stop here, the temporary written and not renamed, announced on
+  // stderr, for up to 60 s, so that a test can kill the process mid-write.
+  if (std::getenv("SVO_TEST_STALL_WRITE")) {
+    std::fprintf(stderr, "svo: test hook: stalled writing %s\n", temporary_.c_str());
+    std::fflush(stderr);
+    for (int i = 0; i < 600; ++i) ::usleep(100000);
+  }
+  if (::fsync(fd_) != 0) fail("fsync " + temporary_, errno);
+  if (::close(std::exchange(fd_, -1)) != 0) fail("closing " + temporary_, errno);
+  if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail("renaming " + temporary_, errno);
+  committed_ = true;
+  // The rename made durable (best effort: some file systems refuse).
+  int dfd = ::open(parent_of(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+void write_file(const std::string& path, const void* data, size_t size) {
+  OutputFile out(path);
+  out.write(data, size);
+  out.commit();
+}
+
+StagingDirectory::StagingDirectory(const fs::path& dir, const std::string& prefix) {
+  remove_stale_temporaries(dir, prefix);
+  static std::atomic<unsigned> counter{0};
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    fs::path candidate = dir / (prefix + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    if (::mkdir(candidate.c_str(), 0777) == 0) {
+      path_ = candidate;
+      return;
+    }
+    if (errno != EEXIST) throw FileError(candidate.string() + ": cannot create: " + std::strerror(errno));
+  }
+  throw FileError(dir.string() + ": cannot create a staging directory " + prefix + "...");
+}
+
+StagingDirectory::~StagingDirectory() {
+  std::error_code ignored;
+  if (!path_.empty()) fs::remove_all(path_, ignored);
 }
 
 }  // namespace svo::files

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
 #include "svo_format.h"
 
@@ -28,59 +29,10 @@ using namespace format;
   throw FileError(path + ": cannot write: " + step + ": " + std::strerror(err));
 }
 
-// The temporary file: created exclusively; removed on destruction unless
-// committed by rename.
-class TempFile {
- public:
-  explicit TempFile(const std::string& path) : path_(path) {
-    static std::atomic<unsigned> counter{0};
-    tmp_ = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ < 0) io_fail(path_, "creating " + tmp_, errno);
-  }
-  ~TempFile() {
-    if (fd_ >= 0) ::close(fd_);
-    if (!committed_) ::unlink(tmp_.c_str());
-  }
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-
-  int fd() const { return fd_; }
-  const std::string& name() const { return tmp_; }
-
-  // fsync, close, rename over the final path, then fsync the directory so
-  // that the rename itself is durable (best effort: some file systems refuse).
-  void commit() {
-    if (::fsync(fd_) != 0) io_fail(path_, "fsync " + tmp_, errno);
-    int fd = std::exchange(fd_, -1);
-    if (::close(fd) != 0) io_fail(path_, "closing " + tmp_, errno);
-    if (::rename(tmp_.c_str(), path_.c_str()) != 0) io_fail(path_, "renaming " + tmp_, errno);
-    committed_ = true;
-    std::filesystem::path dir = std::filesystem::path(path_).parent_path();
-    int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-      ::fsync(dfd);
-      ::close(dfd);
-    }
-  }
-
- private:
-  std::string path_, tmp_;
-  int fd_ = -1;
-  bool committed_ = false;
-};
-
-// Announces the stall on stderr, then waits up to 60 s to be killed.
-void stall_for_test(const std::string& temporary) {
-  std::fprintf(stderr, "svo: test hook: stalled writing %s\n", temporary.c_str());
-  std::fflush(stderr);
-  for (int i = 0; i < 600; ++i) ::usleep(100000);
-}
-
 // Buffered sequential writer that hashes what it writes.
 class Stream {
  public:
-  Stream(const TempFile& file, const std::string& path) : file_(file), path_(path), state_(XXH64_createState()) {
+  explicit Stream(files::OutputFile& file) : file_(file), state_(XXH64_createState()) {
     if (!state_) throw std::bad_alloc();
     XXH64_reset(state_.get(), 0);
     buffer_.reserve(kBuffer);
@@ -110,17 +62,9 @@ class Stream {
   struct FreeState {
     void operator()(XXH64_state_t* s) const { XXH64_freeState(s); }
   };
-  void write_all(const uint8_t* p, size_t n) {
-    while (n > 0) {
-      ssize_t w = ::write(file_.fd(), p, n);
-      if (w < 0 && errno == EINTR) continue;
-      if (w < 0) io_fail(path_, "writing " + file_.name(), errno);
-      if (w == 0) io_fail(path_, "writing " + file_.name(), ENOSPC);
-      p += w, n -= size_t(w);
-    }
-  }
-  const TempFile& file_;
-  const std::string& path_;
+  void write_all(const uint8_t* p, size_t n) { file_.write(p, n); }
+
+  files::OutputFile& file_;
   std::unique_ptr<XXH64_state_t, FreeState> state_;
   std::vector<uint8_t> buffer_;
   uint64_t offset_ = kHeaderBytes;  // the header is written last, at offset 0
@@ -169,10 +113,10 @@ void write_svo(const std::string& path, const Octree& tree) {
   validate_octree(tree);
   const Layout layout = plan_layout(tree);
 
-  TempFile file(path);
-  Stream out(file, path);
+  files::OutputFile file(path);
+  Stream out(file);
   // Skip the header for now: it carries the payload checksum, so it is written last.
-  if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.name(), errno);
+  if (::lseek(file.fd(), off_t(kHeaderBytes), SEEK_SET) < 0) io_fail(path, "seeking in " + file.temporary(), errno);
   if (layout.version >= kVersionDetail) {
     uint8_t detail[kDetailBytes];
     encode_detail(tree.detail, detail);
@@ -205,10 +149,6 @@ void write_svo(const std::string& path, const Octree& tree) {
   }
   out.pad_to(layout.file_bytes);
   out.flush();
-  // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_WRITE
-  // set, stop here, the payload written and the header not, so that a test
-  // can kill the process in the middle of writing.
-  if (std::getenv("SVO_TEST_STALL_WRITE")) stall_for_test(file.name());
 
   Header h;
   h.version = layout.version;
@@ -229,13 +169,8 @@ void write_svo(const std::string& path, const Octree& tree) {
   uint8_t header[kHeaderBytes];
   encode_header(h, header);
   put_u64(header + at::header_checksum, checksum({header, at::header_checksum}));
-  for (size_t done = 0; done < kHeaderBytes;) {
-    ssize_t w = ::pwrite(file.fd(), header + done, kHeaderBytes - done, off_t(done));
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) io_fail(path, "writing " + file.name(), w < 0 ? errno : ENOSPC);
-    done += size_t(w);
-  }
-  file.commit();
+  file.write_at(header, kHeaderBytes, 0);
+  file.commit();  // its test hook stalls before the rename
 }
 
 }  // namespace svo::octree

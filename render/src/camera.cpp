@@ -17,7 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "atomic_file.h"
+#include "svo/octree/files.h"
 #include "svo/octree/sampler.h"
 
 namespace svo::render {
@@ -29,6 +29,9 @@ constexpr float kAzimuth = 35.0f, kElevation = 30.0f;  // degrees: the 3/4 eleva
 constexpr float kMidCloser = 3.0f;
 constexpr float kCloseVoxels = 8.0f, kCloseFraction = 0.02f;
 const glm::vec3 kWorldUp(0, 1, 0);
+// validate_camera: eye and target coordinates within +-1e18, so that the
+// tracer's squared distances (up to 3 (2e18)^2) stay finite in float.
+constexpr float kMaxCameraCoordinate = 1e18f;
 
 std::string vec_text(glm::vec3 v) {
   std::ostringstream s;
@@ -313,14 +316,28 @@ void validate_camera(const Camera& c, const std::string& where) {
       !std::isfinite(c.focus)) {
     fail("values must be finite numbers");
   }
-  glm::vec3 view = c.target - c.eye;
-  float length = glm::length(view);
-  if (!(length > 1e-6f * std::max(1.0f, glm::length(c.eye)))) {
-    fail("eye and target are the same point " + vec_text(c.eye));
+  // In double: the squares of float coordinates beyond ~1e19 overflow a float.
+  const glm::dvec3 eye(c.eye), target(c.target), up(c.up);
+  const glm::dvec3 view = target - eye;
+  const double length = glm::length(view);
+  for (const auto& [name, p] : {std::pair{"eye", c.eye}, std::pair{"target", c.target}}) {
+    if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCameraCoordinate) {
+      std::ostringstream s;
+      s << name << " " << vec_text(p) << " is too far out (" << length << " from the " << (std::string(name) == "eye" ? "target" : "eye")
+        << "): coordinates must be within +-" << kMaxCameraCoordinate << ", beyond which float arithmetic overflows";
+      fail(s.str());
+    }
   }
-  if (!(glm::length(c.up) > 0)) fail("up is the zero vector");
-  if (glm::length(glm::cross(view / length, glm::normalize(c.up))) < 1e-3f) {
-    fail("up " + vec_text(c.up) + " is parallel to the view direction " + vec_text(view / length));
+  if (length == 0) fail("eye and target are the same point " + vec_text(c.eye));
+  if (!(length > 1e-6 * std::max(1.0, glm::length(eye)))) {
+    std::ostringstream s;
+    s << "eye " << vec_text(c.eye) << " and target " << vec_text(c.target) << " are too close for float precision ("
+      << length << " apart; at least 1e-6 x max(1, |eye|) = " << 1e-6 * std::max(1.0, glm::length(eye)) << ")";
+    fail(s.str());
+  }
+  if (!(glm::length(up) > 0)) fail("up is the zero vector");
+  if (glm::length(glm::cross(view / length, glm::normalize(up))) < 1e-3) {
+    fail("up " + vec_text(c.up) + " is parallel to the view direction " + vec_text(glm::vec3(view / length)));
   }
   if (!(c.fov_deg > 0 && c.fov_deg < 180)) {
     std::ostringstream s;
@@ -404,13 +421,7 @@ void save_camera_json(const std::string& path, const Camera& c) {
   nlohmann::json j{{"eye", arr(c.eye)}, {"target", arr(c.target)}, {"up", arr(c.up)}, {"fov", num(c.fov_deg)}};
   if (c.aperture > 0) j["aperture"] = num(c.aperture), j["focus"] = num(c.focus);
   std::string text = j.dump(2) + "\n";
-  detail::write_atomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write: creating " + tmp + ": " + std::strerror(errno));
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(path + ": cannot write: writing " + tmp);
-  });
+  files::write_file(path, text);
 }
 
 Light parse_light(std::string_view text, glm::vec3 scene_centre) {

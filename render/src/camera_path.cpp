@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "atomic_file.h"
+#include "svo/octree/files.h"
 #include "svo/render/camera.h"
 
 namespace svo::render {
@@ -82,6 +82,10 @@ Camera sample_path(const std::vector<Camera>& keys, double u) {
 std::vector<Camera> path_cameras(const CameraPath& path) {
   if (path.keys.size() < 2) throw std::invalid_argument("camera path: needs at least 2 keys");
   if (path.frames < 2) throw std::invalid_argument("camera path: needs at least 2 frames");
+  if (path.frames > kMaxPathFrames) {
+    throw std::invalid_argument("camera path: " + std::to_string(path.frames) + " frames, above the limit of " +
+                                std::to_string(kMaxPathFrames));
+  }
   std::vector<Camera> out;
   out.reserve(path.frames);
   const double span = double(path.keys.size() - 1);
@@ -102,6 +106,10 @@ CameraPath deep_zoom_path(const Camera& start, glm::vec3 target, float zoom, uin
     throw std::invalid_argument(s.str());
   }
   if (frames < 2) throw std::invalid_argument("deep-zoom: needs at least 2 frames, got " + std::to_string(frames));
+  if (frames > kMaxPathFrames) {
+    throw std::invalid_argument("deep-zoom: " + std::to_string(frames) + " frames, above the limit of " +
+                                std::to_string(kMaxPathFrames));
+  }
   Camera first = start;
   first.target = target;
   first.aperture = 0;
@@ -180,9 +188,12 @@ CameraPath parse_camera_path(std::string_view text, const std::string& source_na
     keys = &j["keys"];
     if (j.contains("frames")) {
       const auto& f = j["frames"];
-      if (!f.is_number_integer() || f.get<int64_t>() < 2 || f.get<int64_t>() > 1000000) {
-        fail("\"frames\" must be an integer from 2 to 1000000");
+      const std::string range = "\"frames\" must be an integer from 2 to " + std::to_string(kMaxPathFrames);
+      if (!f.is_number_integer()) fail(range);
+      if (f.is_number_unsigned() ? f.get<uint64_t>() > kMaxPathFrames : f.get<int64_t>() > int64_t(kMaxPathFrames)) {
+        fail("\"frames\" is " + f.dump() + ", above the limit of " + std::to_string(kMaxPathFrames) + " frames");
       }
+      if (f.get<int64_t>() < 2) fail(range);
       path.frames = uint32_t(f.get<int64_t>());
     }
   } else if (!j.is_array()) {
@@ -241,13 +252,7 @@ std::string camera_path_json(const CameraPath& path) {
 
 void save_camera_path(const std::string& file, const CameraPath& path) {
   const std::string text = camera_path_json(path);
-  detail::write_atomically(file, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(file + ": cannot write: creating " + tmp);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(file + ": cannot write: writing " + tmp);
-  });
+  files::write_file(file, text);
 }
 
 }  // namespace svo::render

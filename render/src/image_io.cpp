@@ -1,5 +1,6 @@
 #include "svo/render/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -8,7 +9,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "atomic_file.h"
+#include "svo/octree/files.h"
 #include "svo/octree/image_header.h"
 
 namespace svo::render {
@@ -30,20 +31,56 @@ std::string extension_of(const std::string& path) {
   return ext;
 }
 
-// Writes `spec` and `data` (of `type`) to `path` through a temporary file in
-// the format `format_name` ("png", "openexr").
+// OpenImageIO writes through this into an OutputFile: every write checked
+// (its PNG writer ignores failed writes: a full disk left a truncated image
+// that was then renamed into place) and the first failure kept.
+class OutputProxy final : public OIIO::Filesystem::IOProxy {
+ public:
+  explicit OutputProxy(files::OutputFile& file) : IOProxy(file.temporary(), Write), file_(file) {}
+  const char* proxytype() const override { return "svo::files::OutputFile"; }
+  void close() override { m_mode = Closed; }
+  size_t write(const void* data, size_t size) override {
+    size_t n = pwrite(data, size, m_pos);
+    m_pos += int64_t(n);
+    return n;
+  }
+  size_t pwrite(const void* data, size_t size, int64_t offset) override {
+    if (!failure.empty() || offset < 0) return 0;
+    try {
+      file_.write_at(data, size, uint64_t(offset));
+    } catch (const files::FileError& e) {
+      failure = e.what();
+      return 0;
+    }
+    end_ = std::max(end_, uint64_t(offset) + size);
+    return size;
+  }
+  size_t size() const override { return size_t(end_); }
+  std::string failure;  // the first failed write's message
+
+ private:
+  files::OutputFile& file_;
+  uint64_t end_ = 0;
+};
+
+// Writes `spec` and `data` (of `type`) to `path` in the format `format_name`
+// ("png", "openexr") through an OutputFile.
 void write_file(const std::string& path, const char* format_name, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
                 const void* data) {
   try {
-    detail::write_atomically(path, [&](const std::string& tmp) {
-      auto out = OIIO::ImageOutput::create(format_name);
-      if (!out) throw ImageError(path + ": cannot write: " + one_line(OIIO::geterror()));
-      if (!out->open(tmp, spec)) throw ImageError(path + ": cannot write: " + one_line(out->geterror()));
-      bool ok = out->write_image(type, data);
-      std::string error = ok ? "" : one_line(out->geterror());
-      if (!out->close() && ok) ok = false, error = one_line(out->geterror());
-      if (!ok) throw ImageError(path + ": cannot write: " + error);
-    });
+    files::OutputFile file(path);
+    OutputProxy proxy(file);
+    auto out = OIIO::ImageOutput::create(format_name);
+    if (!out) throw ImageError(path + ": cannot write: " + one_line(OIIO::geterror()));
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
+      throw ImageError(path + ": cannot write: OpenImageIO's " + format_name + " writer takes no I/O proxy");
+    }
+    bool ok = out->open(file.temporary(), spec) && out->write_image(type, data);
+    std::string error = ok ? "" : one_line(out->geterror());
+    if (!out->close() && ok) ok = false, error = one_line(out->geterror());
+    if (!proxy.failure.empty()) throw ImageError(proxy.failure);
+    if (!ok) throw ImageError(path + ": cannot write: " + error);
+    file.commit();
   } catch (const ImageError&) {
     throw;
   } catch (const std::runtime_error& e) {
@@ -80,17 +117,10 @@ ImageFormat image_format(const std::string& path) {
 }
 
 void check_writable_output(const std::string& path) {
-  if (path.empty()) throw ImageError("output path is empty");
-  std::error_code ec;
-  fs::path target = fs::absolute(path, ec);
-  if (ec) throw ImageError(path + ": " + ec.message());
-  if (fs::is_directory(target, ec)) throw ImageError(path + ": is a directory");
-  fs::path dir = target.parent_path();
-  fs::file_status status = fs::status(dir, ec);
-  if (!fs::exists(status)) throw ImageError(path + ": directory " + dir.string() + " does not exist");
-  if (!fs::is_directory(status)) throw ImageError(path + ": " + dir.string() + " is not a directory");
-  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
-    throw ImageError(path + ": directory " + dir.string() + " is not writable");
+  try {
+    files::resolve_output(path);
+  } catch (const files::FileError& e) {
+    throw ImageError(e.what());
   }
 }
 
@@ -125,11 +155,11 @@ namespace {
 
 // A G-buffer texel as the channels of kGBufferChannels.
 void gbuffer_channels(const GBufferTexel& t, float* out) {
-  const float values[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,    t.normal.y,
-                          t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
-                          t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,      t.a_s.x,
-                          t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2),
-                          t.material_mix};
+  const float values[] = {
+      t.depth,       t.position.x, t.position.y, t.position.z,      t.normal.x,         t.normal.y,
+      t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,       t.slope_cov.x,      t.slope_cov.y,
+      t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,          t.abar.z,           t.a_s.x,
+      t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2), t.material_mix};
   static_assert(std::size(values) == kGBufferChannels.size());
   std::copy(std::begin(values), std::end(values), out);
 }

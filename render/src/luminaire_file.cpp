@@ -19,7 +19,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "atomic_file.h"
+#include "svo/octree/files.h"
 #include "svo/render/luminaire.h"
 
 namespace svo::render {
@@ -367,7 +367,7 @@ void save_light_field(const LightField& field, const fs::path& path) {
   validate(field, path.string());
   const std::vector<uint8_t> bytes = encode(field);
   try {
-    detail::write_bytes_atomically(path.string(), bytes.data(), bytes.size());
+    files::write_file(path.string(), bytes.data(), bytes.size());
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string("luminaire: ") + e.what());
   }
@@ -382,7 +382,7 @@ LightField load_light_field(const fs::path& path) {
   if (status.type() == fs::file_type::not_found) fail(name, "no such file");
   if (ec) fail(name, "cannot inspect: " + ec.message());
   if (status.type() != fs::file_type::regular)
-    fail(name, "is " + detail::file_kind(status.type()) + ", expected a .lfl file");
+    fail(name, "is " + files::file_kind(status.type()) + ", expected a .lfl file");
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) fail(name, std::string("cannot open: ") + std::strerror(errno));
   struct Closer {

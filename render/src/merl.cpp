@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "atomic_file.h"
+#include "svo/octree/files.h"
 #include "common/shared_math.h"
 
 namespace svo::math {
@@ -110,7 +110,7 @@ MerlBrdf load_merl(const fs::path& path) {
   if (status.type() == fs::file_type::not_found) fail(path, "no such file");
   if (ec) fail(path, "cannot inspect: " + ec.message());
   if (status.type() != fs::file_type::regular)
-    fail(path, "is " + detail::file_kind(status.type()) + ", expected a MERL .binary file");
+    fail(path, "is " + files::file_kind(status.type()) + ", expected a MERL .binary file");
   Fd file{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
   if (file.fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno));
   // And again on what was opened (the path may have changed in between).
@@ -189,7 +189,7 @@ void write_merl(const fs::path& path, const MerlBrdf& brdf) {
     }
   }
   try {
-    detail::write_bytes_atomically(path.string(), bytes.data(), bytes.size());
+    files::write_file(path.string(), bytes.data(), bytes.size());
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string("merl: ") + e.what());
   }

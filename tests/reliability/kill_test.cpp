@@ -2,9 +2,8 @@
 // in the middle of writing, or stopped by a full disk, leave the earlier
 // file of the same name byte-identical and no partial file under that name
 // (label: cli). The `svo` executable is SVO_EXE.
-#include <signal.h>
-
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <chrono>
 #include <random>
@@ -118,7 +117,8 @@ TEST(Kill, VoxelizeKilledAtRandomTimesIsOldOrNew) {
     fs::copy_file(old_path, out, fs::copy_options::overwrite_existing);
     Child c = start(voxelize("grooved-cylinder", out));
     // Kill times spread over the whole run (a little past it, too).
-    std::this_thread::sleep_for(std::chrono::duration<double>(seconds * 1.1 * (trial + std::uniform_real_distribution<double>(0, 1)(random)) / 8));
+    std::this_thread::sleep_for(std::chrono::duration<double>(
+        seconds * 1.1 * (trial + std::uniform_real_distribution<double>(0, 1)(random)) / 8));
     ::kill(c.pid, SIGKILL);
     std::string seen;
     finished(c, seen);

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -40,10 +41,13 @@ inline std::vector<std::string> entries(const std::filesystem::path& dir, const 
 }
 
 struct Limits {
-  bool stall = false;                // SVO_TEST_STALL_WRITE=1: stop before the rename
-  rlim_t file_size = RLIM_INFINITY;  // RLIMIT_FSIZE in bytes (SIGXFSZ ignored): a full disk
-  double seconds = 120;              // killed with SIGKILL past this (finish reports 128 + 9)
+  bool stall = false;                                    // SVO_TEST_STALL_WRITE=1: stop before the rename
+  rlim_t file_size = RLIM_INFINITY;                      // RLIMIT_FSIZE in bytes (SIGXFSZ ignored): a full disk
+  double seconds = 120;                                  // killed with SIGKILL past this (finish reports 128 + 9)
   std::vector<std::pair<std::string, std::string>> env;  // set in the child
+  // Called in the child after fork, before exec (same PID as the svo run):
+  // e.g. to plant a link at the name of its temporary.
+  std::function<void()> before_exec;
 };
 
 // A running `svo`.
@@ -56,10 +60,10 @@ struct Child {
 
 // What a finished run cost.
 struct Outcome {
-  int status = -1;        // exit status, or 128 + signal
-  std::string err;        // all of stderr
-  double seconds = 0;     // wall time
-  long peak_kib = 0;      // peak resident set (ru_maxrss)
+  int status = -1;     // exit status, or 128 + signal
+  std::string err;     // all of stderr
+  double seconds = 0;  // wall time
+  long peak_kib = 0;   // peak resident set (ru_maxrss)
   int lines() const { return int(std::count(err.begin(), err.end(), '\n')); }
 };
 
@@ -80,6 +84,7 @@ inline Child start(const std::vector<std::string>& args, const Limits& limits = 
     ::close(fds[1]);
     if (limits.stall) ::setenv("SVO_TEST_STALL_WRITE", "1", 1);
     for (const auto& [name, value] : limits.env) ::setenv(name.c_str(), value.c_str(), 1);
+    if (limits.before_exec) limits.before_exec();
     if (limits.file_size != RLIM_INFINITY) {
       ::signal(SIGXFSZ, SIG_IGN);
       rlimit r{limits.file_size, limits.file_size};

@@ -36,3 +36,88 @@ uintmax_t require_regular_file(const std::string& path, const std::string& what)
 std::string read_bounded(const std::string& path, uintmax_t limit, const std::string& what);
 
 }  // namespace svo::files
+
+namespace svo::files {
+
+// An output file replaced atomically: the bytes go to a temporary in the
+// final file's directory, created exclusively (O_CREAT | O_EXCL |
+// O_NOFOLLOW: a planted link or file at its name is never written through),
+// every write checked, then fsync, close and rename over the final name,
+// and the directory fsynced. Until commit() nothing under the final name
+// changes; destroying an uncommitted OutputFile removes its temporary.
+//
+// What is at the final name decides the target (resolve_output):
+// - nothing or a regular file: that name; an existing file's mode is kept;
+// - a symbolic link: written through to the file it points to (the link
+//   stays a link; the target keeps its mode); a dangling link is refused;
+// - a read-only file (no write bit at all, for anyone): refused, even for
+//   root, so that `chmod a-w` protects a result;
+// - a directory, FIFO, device or socket: refused.
+// Temporaries are named "<target>.tmp-<pid>-<n>"; those left by processes
+// that no longer run (killed with SIGKILL) are removed when the same target
+// is written again.
+class OutputFile {
+ public:
+  // Resolves and checks the target, removes stale temporaries, creates the
+  // temporary. @throw FileError "<path>: ..." one line.
+  explicit OutputFile(const std::string& path);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  // Appends all `size` bytes at the current offset. @throw FileError.
+  void write(const void* data, size_t size);
+  // Writes all `size` bytes at `offset` (the file offset of write() is not
+  // moved). @throw FileError.
+  void write_at(const void* data, size_t size, uint64_t offset);
+  // Test hook, fsync, close, rename over the target, fsync the directory.
+  // @throw FileError; the temporary is then removed by the destructor.
+  void commit();
+
+  int fd() const { return fd_; }
+  // The temporary's name, for a program that writes it by name (ffmpeg):
+  // it is a regular file this process created exclusively.
+  const std::string& temporary() const { return temporary_; }
+  // The name the user gave, for messages.
+  const std::string& path() const { return path_; }
+  // The file that commit() replaces (the link's target for a link).
+  const std::string& target() const { return target_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& step, int err) const;
+  std::string path_, target_, temporary_;
+  int fd_ = -1;
+  bool committed_ = false;
+};
+
+// The file an output at `path` replaces, after the checks of OutputFile
+// (link followed, read-only and non-regular refused, the directory present
+// and writable): for a command to check its outputs before any work.
+// @throw FileError "<path>: ..." one line.
+std::string resolve_output(const std::string& path);
+
+// Writes `size` bytes at `data` to `path` through an OutputFile.
+void write_file(const std::string& path, const void* data, size_t size);
+inline void write_file(const std::string& path, const std::string& text) { write_file(path, text.data(), text.size()); }
+
+// Removes the entries of `dir` named `prefix` + "<pid>-<anything>" whose
+// process no longer runs (files or directories left by a killed run of this
+// engine). Returns how many were removed.
+size_t remove_stale_temporaries(const std::filesystem::path& dir, const std::string& prefix);
+
+// A fresh directory "<dir>/<prefix><pid>-<n>" for a run's set of outputs,
+// removed with what is left in it on destruction; stale ones of
+// dead processes are removed first.
+class StagingDirectory {
+ public:
+  StagingDirectory(const std::filesystem::path& dir, const std::string& prefix);
+  ~StagingDirectory();
+  StagingDirectory(const StagingDirectory&) = delete;
+  StagingDirectory& operator=(const StagingDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace svo::files

@@ -15,8 +15,11 @@
 //      12    4  u32 header_bytes = 128
 //      16    4  u32 brick_size        power of two in [2, 32]
 //      20    4  u32 depth_count       [1, 16]; brick_size << (depth_count - 1) <= 65536
-//      24   12  f32 origin[3]         finite
-//      36    4  f32 size              finite, > 0
+//      24   12  f32 origin[3]         origin[i] and origin[i] + size finite and within +-1e17
+//      36    4  f32 size              > 0; the finest voxel, size / (brick_size << (depth_count - 1)),
+//                                     at least 2^-60 and at least 2^-23 times the domain's largest
+//                                     |coordinate| (so that a renderer in float can tell voxels apart,
+//                                     and squared distances neither overflow nor underflow)
 //      40    4  f32 sigma_rho2        finite, >= 0
 //      44   12  f32 constant_colour[3] finite
 //      56    4  u32 channel_count     [0, 16]
@@ -26,7 +29,7 @@
 //      80    8  u64 channel_table_offset  8-aligned, >= 128
 //      88    8  u64 depth_table_offset    8-aligned, >= end of channel table
 //      96    8  u64 node_table_offset     64-aligned, >= end of depth table
-//     104    8  u64 file_bytes        the size of the whole file
+//     104    8  u64 file_bytes        the size of the whole file = the end of the last section
 //     112    8  u64 payload_checksum  XXH64 (seed 0) of bytes [128, file_bytes)
 //     120    8  u64 header_checksum   XXH64 (seed 0) of bytes [0, 120)
 //   detail block, version 3 only, 64 bytes at offset 128 (Octree::Detail)
@@ -65,10 +68,13 @@
 //     shell_count - 1, 3B^2 + 3B + 1 samples each, in shell_index order:
 //     the points of the brick's (B + 1)^3 block on its upper faces, read
 //     where they lie on the domain's upper boundary.
-// Sections come in this order and do not overlap. The writer places them back
-// to back at the smallest aligned offset and fills the gaps with zeros; the
-// reader accepts any placement that obeys the rules above and ignores the
-// gaps (the payload checksum covers them).
+// Sections come in this order, back to back: each starts at the smallest
+// offset at or after the end of the previous one that has its alignment (the
+// writer pads with zeros), and the file ends where the last section
+// ends (file_bytes). The reader refuses any other placement, and a file_bytes
+// that differs from the size on disk or from the end of the last section,
+// before it reads or hashes any byte past the tables: a header that states
+// more bytes than its sections need costs nothing to refuse.
 // A flipped byte anywhere is caught by one of the two checksums.
 //
 // Tree rules the reader checks (and the writer refuses to break):
@@ -89,16 +95,15 @@
 #include <string>
 #include <vector>
 
+#include "svo/octree/files.h"
 #include "svo/octree/octree.h"
 
 namespace svo::octree {
 
 // Any problem reading or writing a .svo file. The message is one line that
 // starts with the path and says what is wrong.
-class FileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// The same type as every file error of the engine (svo/octree/files.h).
+using FileError = files::FileError;
 
 // Checks the invariants of an in-memory octree that the file format relies on
 // (header ranges, channels, brick data sizes, and the tree rules above).

@@ -36,10 +36,13 @@ enum class ImageFormat { Png, Exr };
 // @throw ImageError "<path>: unsupported image extension '<ext>' (use .png or .exr)".
 ImageFormat image_format(const std::string& path);
 
-// Refuses an output path before any work is done: its directory must exist
-// and be writable, and `path` must not be a directory.
+// Refuses an output path before any work is done, by the rules of
+// svo::files::OutputFile: its directory must exist and be writable; an
+// existing file there must be a regular, writable file (a symbolic link is
+// written through to its target).
 // @throw ImageError "<path>: directory <dir> does not exist" (or "is not a
-//        directory", "is not writable"), "<path>: is a directory".
+//        directory", "is not writable"), "<path>: is a directory; ...",
+//        "<path>: is read-only; ...".
 void check_writable_output(const std::string& path);
 
 // Writes frame.colour as PNG or EXR (see above), atomically.
