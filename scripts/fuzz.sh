@@ -44,7 +44,8 @@ for t in "${TARGETS[@]}"; do
   cp -n "$FUZZ_DIR/fuzz/seeds/$t/"* "$dir/corpus/" 2>/dev/null || true
   echo "fuzz: $t for ${SECONDS_EACH} s"
   rc=0
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1 \
     "$FUZZ_DIR/tests/fuzz/svo_fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=3072 \
     -print_final_stats=1 -artifact_prefix="$dir/artifacts/" "$dir/corpus" > "$dir/log.txt" 2>&1 || rc=$?
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log.txt" | tail -1)

@@ -22,6 +22,7 @@ if [ "${SVO_SKIP_SANITIZE:-0}" != 1 ]; then
   fi
   cmake --build "$ASAN_DIR" -j2
   echo "test: the same suite under AddressSanitizer + UndefinedBehaviorSanitizer"
-  (cd "$ASAN_DIR" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  (cd "$ASAN_DIR" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1 \
      ctest -j2 --output-on-failure --timeout 900 "$@")
 fi

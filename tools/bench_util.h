@@ -9,17 +9,32 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/material.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
 
 namespace svo::tools::bench {
+
+// A text output of a bench (CSV, Markdown, gnuplot script): streamed into
+// memory, then written by save() through svo::files::write_file (atomic,
+// every write checked). save() may be called as results come in: each call
+// replaces the file with everything streamed so far.
+class TextFile : public std::ostringstream {
+ public:
+  explicit TextFile(std::filesystem::path path) : path_(std::move(path)) {}
+  void save() const { files::write_file(path_.string(), str()); }
+
+ private:
+  std::filesystem::path path_;
+};
 
 inline std::string fmt(double v, int digits) {
   char buf[64];
@@ -122,7 +137,7 @@ inline void write_material_row(std::ostream& csv, std::ostream& md, const refere
 // R, G, B of ground truth, Eq. 17, MIP and the engine) into DIR/material.png,
 // with `title` (may be empty).
 inline void write_material_plot(const std::filesystem::path& dir, const std::string& title) {
-  std::ofstream gp(dir / "material.gp");
+  TextFile gp(dir / "material.gp");
   gp << "set terminal pngcairo size 900,500 font 'sans,10'\nset output '" << (dir / "material.png").string()
      << "'\nset datafile separator ','\nset key top left\nset grid\nset xlabel 'view angle (degrees)'\n"
      << "set ylabel 'colour'\n";
@@ -138,6 +153,7 @@ inline void write_material_plot(const std::filesystem::path& dir, const std::str
        << "' title 'engine (one cone)'";
   }
   gp << "\n";
+  gp.save();
 }
 
 // Runs gnuplot on `script`; says why on stderr when there is no plot.

@@ -22,6 +22,7 @@
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/material.h"
@@ -92,7 +93,7 @@ std::optional<double> time_at_error(const std::vector<Row>& march, double target
 }
 
 void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
-  std::ofstream gp(dir / "plot.gp");
+  bench::TextFile gp(dir / "plot.gp");
   gp << "set terminal pngcairo size 1200,420 font 'sans,10'\nset output '" << (dir / "speed-error.png").string()
      << "'\nset datafile separator ','\nset logscale xy\nset key bottom left\nset grid\n"
      << "set multiplot layout 1," << views.size() << " title '" << title << "'\n";
@@ -105,7 +106,7 @@ void write_plot(const fs::path& dir, const std::vector<std::string>& views, cons
        << "notitle\n";
   }
   gp << "unset multiplot\n";
-  gp.close();
+  gp.save();
   run_gnuplot(dir / "plot.gp");
 }
 
@@ -223,12 +224,13 @@ void run_speed_error(const SpeedErrorArgs& a) {
 
   // CSV, JSON, Markdown, plot.
   {
-    std::ofstream csv(dir / "results.csv");
+    bench::TextFile csv(dir / "results.csv");
     csv << "view,method,spp,ms,us_per_covered_pixel,relmse,rmse,psnr,coverage_error,coverage_error_silhouette\n";
     for (const auto& r : rows) {
       csv << r.view << "," << r.method << "," << r.spp << "," << r.ms << "," << r.us_per_pixel << "," << r.relmse
           << "," << r.rmse << "," << r.psnr << "," << r.coverage_error << "," << r.coverage_error_silhouette << "\n";
     }
+    csv.save();
   }
   nlohmann::json j;
   j["source"] = source_name(a.source);
@@ -244,7 +246,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
                          {"psnr", r.psnr}, {"coverage_error", r.coverage_error},
                          {"coverage_error_silhouette", r.coverage_error_silhouette}});
   }
-  std::ofstream(dir / "results.json") << j.dump(2) << "\n";
+  files::write_file((dir / "results.json").string(), j.dump(2) + "\n");
   std::ostringstream md;
   md << "Source " << source_name(a.source) << " at " << a.resolution << "^3, " << a.size << "x" << a.size
      << ", reference " << a.reference_spp << " spp, device " << gpu.device_name() << ", median of " << a.repeats
@@ -264,7 +266,7 @@ void run_speed_error(const SpeedErrorArgs& a) {
                                             : std::string("none: less accurate than 1 ray per pixel"))
        << " |\n";
   }
-  std::ofstream(dir / "table.md") << md.str();
+  files::write_file((dir / "table.md").string(), md.str());
   write_plot(dir, views, "speed against error: " + source_name(a.source));
   std::cout << md.str();
 }
@@ -302,7 +304,7 @@ void run_material(const MaterialArgs& a) {
   octree::Octree tree = voxelizer::voxelize(field, vo);
   std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
   render::Renderer& gpu = *renderer;
-  std::ofstream csv(dir / "material.csv");
+  bench::TextFile csv(dir / "material.csv");
   csv << "degrees,truth_r,truth_g,truth_b,eq17_r,eq17_g,eq17_b,mip_r,mip_g,mip_b,engine_r,engine_g,engine_b\n";
   std::ostringstream md;
   md << "Gaussian height field, sigma_h " << a.sigma_h << ", slope variance " << sci(field.slope_variance().x) << ", "
@@ -315,8 +317,8 @@ void run_material(const MaterialArgs& a) {
     bench::write_material_row(csv, md, curve[i], engine);
   }
   bar.finish();
-  csv.close();
-  std::ofstream(dir / "table.md") << md.str();
+  csv.save();
+  files::write_file((dir / "table.md").string(), md.str());
   bench::write_material_plot(dir, "");
   run_gnuplot(dir / "material.gp");
   std::cout << md.str();

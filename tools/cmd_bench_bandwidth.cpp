@@ -30,6 +30,7 @@
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
@@ -215,7 +216,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
   render::check_writable_output((dir / "results.csv").string());
   ProgressBar bar("bench bandwidth");
   auto wants = [&](uint32_t n) { return std::find(a.parts.begin(), a.parts.end(), n) != a.parts.end(); };
-  std::ofstream md(dir / "table.md"), csv(dir / "results.csv");
+  bench::TextFile md(dir / "table.md"), csv(dir / "results.csv");
   nlohmann::json json;
   json["machine"] = machine_description();
   json["size"] = a.size;
@@ -364,8 +365,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
                                        {"samples", p.samples},
                                        {"covered", p.covered}});
           json["headline"].push_back(row);
-          md.flush();
-          csv.flush();
+          md.save();
+          csv.save();
         }
         // Parts 2-4: the first material and map of the first scene.
         if (!first || si != 0) continue;
@@ -497,7 +498,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
                                 {"rank_correlation", rho},
                                 {"rank_correlation_interior", rho_interior},
                                 {"pixels", counted}};
-          md.flush();
+          md.save();
         }
 
         // Part 3: n_b (Fig. 13).
@@ -518,7 +519,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
             json["n_b"].push_back({{"n_b", nb}, {"ms", ms}, {"bandwidth_ms", bms}, {"psnr", e.psnr}});
           }
           md << "\n";
-          md.flush();
+          md.save();
         }
 
         // Part 4: the slope band-limit on the far view.
@@ -553,12 +554,14 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
                 {{"on", limit}, {"ms", ms}, {"shaded", st.shaded}, {"samples", st.samples}, {"relmse", err}});
           }
           md << "\n";
-          md.flush();
+          md.save();
         }
       }
     }
   }
-  std::ofstream(dir / "results.json") << json.dump(1) << "\n";
+  md.save();
+  csv.save();
+  files::write_file((dir / "results.json").string(), json.dump(1) + "\n");
   bar.finish();
   std::cout << "bench bandwidth: " << (dir / "table.md").string() << ", results.csv, results.json, images\n";
 }

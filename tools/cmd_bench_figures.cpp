@@ -24,6 +24,7 @@
 #include "bench_util.h"
 #include "commands.h"
 #include "progress.h"
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
@@ -181,7 +182,7 @@ nlohmann::json rgb_json(glm::dvec3 c) { return nlohmann::json::array({c.x, c.y, 
 std::string rgb_text(glm::dvec3 c) { return fmt(c.x, 3) + " " + fmt(c.y, 3) + " " + fmt(c.z, 3); }
 
 void write_json(const fs::path& dir, const nlohmann::json& j) {
-  std::ofstream(dir / "results.json") << j.dump(2) << "\n";
+  files::write_file((dir / "results.json").string(), j.dump(2) + "\n");
 }
 
 // ---------------------------------------------------------------------------
@@ -305,8 +306,8 @@ void run_fig11(const FigureArgs& a, float sphere_pixels) {
   render::write_colour((dir / "fig11.png").string(), bench::strip(rows, a.size <= 128 ? 2 : 1));
   md << "\nImages `fig11.png`, one row per light: ground truth, prefiltered, MIP, |prefiltered - truth| and |MIP - "
         "truth| (false colour, full scale 0.2).\n";
-  std::ofstream(dir / "results.csv") << csv.str();
-  std::ofstream(dir / "table.md") << md.str();
+  files::write_file((dir / "results.csv").string(), csv.str());
+  files::write_file((dir / "table.md").string(), md.str());
   write_json(dir, {{"figure", 11},
                    {"resolution", a.resolution},
                    {"size", a.size},
@@ -419,8 +420,8 @@ void run_fig12(const FigureArgs& a, float roughness, float specular) {
   render::write_colour((dir / "fig12.png").string(), bench::strip(rows, a.size <= 128 ? 2 : 1, 2.0f));
   md << "\nImages `fig12.png`, one row per distance: ground truth, prefiltered (slope variance folded into the "
         "lobe), MIP (mean normal, micro-roughness only); exposure x2.\n";
-  std::ofstream(dir / "results.csv") << csv.str();
-  std::ofstream(dir / "table.md") << md.str();
+  files::write_file((dir / "results.csv").string(), csv.str());
+  files::write_file((dir / "table.md").string(), md.str());
   write_json(dir, {{"figure", 12},
                    {"resolution", a.resolution},
                    {"size", a.size},
@@ -526,8 +527,8 @@ void run_fig4(const FigureArgs& a, const std::string& scene_name, std::vector<fl
   bar.finish();
   render::write_colour((dir / "fig4.png").string(), bench::strip(rows, a.size <= 128 ? 2 : 1));
   md << "\nImages `fig4.png`, one row per aperture: ground truth, prefiltered, alpha.\n";
-  std::ofstream(dir / "results.csv") << csv.str();
-  std::ofstream(dir / "table.md") << md.str();
+  files::write_file((dir / "results.csv").string(), csv.str());
+  files::write_file((dir / "table.md").string(), md.str());
   write_json(dir, {{"figure", 4},
                    {"scene", scene_name},
                    {"resolution", a.resolution},

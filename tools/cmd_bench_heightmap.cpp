@@ -13,6 +13,7 @@
 #include "bench_util.h"
 #include "cmd_bench_figures.h"
 #include "progress.h"
+#include "svo/octree/files.h"
 #include "svo/reference/material.h"
 #include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
@@ -92,7 +93,7 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
   render::Renderer& gpu = *renderer;
 
   const auto rel = bench::relative_error;
-  std::ofstream csv(dir / "material.csv");
+  bench::TextFile csv(dir / "material.csv");
   csv << "degrees,truth_r,truth_g,truth_b,eq17_r,eq17_g,eq17_b,mip_r,mip_g,mip_b,engine_r,engine_g,engine_b\n";
   std::ostringstream md;
   md << "Height map " << fs::path(h.heightmap).filename().string() << (h.transpose ? " transposed" : "") << " ("
@@ -125,10 +126,10 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
                     {"engine_error", eeng}});
   }
   bar.finish();
-  csv.close();
+  csv.save();
   md << "\nLargest error over the angles: Eq. 17 " << fmt(100 * worst17, 2) << "%, MIP " << fmt(100 * worst_mip, 2)
      << "%, engine " << fmt(100 * worst_engine, 2) << "%.\n";
-  std::ofstream(dir / "table.md") << md.str();
+  files::write_file((dir / "table.md").string(), md.str());
   auto stats_json = [](const voxelizer::SurfaceStatistics& s) {
     return nlohmann::json{{"area", s.area},
                           {"mean_height", s.mean_height},
@@ -152,7 +153,7 @@ void run_heightmap_material(const HeightmapMaterialArgs& h, float sigma_h, uint3
                    {"device", gpu.device_name()},
                    {"max_error", {{"eq17", worst17}, {"mip", worst_mip}, {"engine", worst_engine}}},
                    {"rows", rows}};
-  std::ofstream(dir / "material.json") << j.dump(2) << "\n";
+  files::write_file((dir / "material.json").string(), j.dump(2) + "\n");
   // The map as a grey picture (linear values scaled to [0, 1]), top row first.
   {
     render::Frame img;

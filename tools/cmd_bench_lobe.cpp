@@ -28,6 +28,7 @@
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
@@ -223,15 +224,15 @@ void run_lobe_bench(const LobeArgs& a) {
 
   const auto& part = wants;
   nlohmann::json results = nlohmann::json::object();
-  std::ofstream csv(dir / "results.csv");
+  bench::TextFile csv(dir / "results.csv");
   csv << "experiment,image,weight,parameter,value,mse\n";
   std::ostringstream md;
   // What is measured so far, written after every part (a later part's
   // failure keeps the earlier ones).
   auto save = [&]() {
-    std::ofstream(dir / "results.json") << results.dump(2) << "\n";
-    std::ofstream(dir / "table.md") << md.str();
-    csv.flush();
+    files::write_file((dir / "results.json").string(), results.dump(2) + "\n");
+    files::write_file((dir / "table.md").string(), md.str());
+    csv.save();
   };
   md << "# Lobe-aware filtering (Tokuyoshi 2015) on the engine\n\n"
      << "Environment " << a.env << "; octrees at " << a.resolution << "^3; " << a.size << "x" << a.size

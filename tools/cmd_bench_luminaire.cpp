@@ -29,6 +29,7 @@
 #include "commands.h"
 #include "progress.h"
 #include "source_options.h"
+#include "svo/octree/files.h"
 #include "svo/reference/compare.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
@@ -197,7 +198,7 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   results["size"] = a.size;
   results["luminaire"] = field->source;  // parts 2-6
   results["material"] = material->name;
-  std::ofstream csv(dir / "results.csv");
+  bench::TextFile csv(dir / "results.csv");
   csv << "part,case,spp,lab,relmse,ms\n";
   std::ostringstream md;
   md << "# svo bench luminaire\n\nScene " << a.scene << " at " << a.resolution << "^3, " << a.size << "x" << a.size
@@ -210,12 +211,12 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
     const double e = mean_lab_error(f, ref), r = relmse(f, ref), ms = pass_ms(f, "luminaire");
     csv << part << "," << name << "," << spp << "," << e << "," << r << "," << ms << "\n";
     results[part].push_back({{"case", name}, {"spp", spp}, {"lab", e}, {"relmse", r}, {"ms", ms}});
-    csv.flush();
+    csv.save();
     return e;
   };
   auto flush = [&] {
-    std::ofstream(dir / "table.md") << md.str();
-    std::ofstream(dir / "results.json") << results.dump(2) << "\n";
+    files::write_file((dir / "table.md").string(), md.str());
+    files::write_file((dir / "results.json").string(), results.dump(2) + "\n");
   };
 
   if (wants(1)) {

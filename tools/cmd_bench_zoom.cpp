@@ -87,7 +87,7 @@ void write_plot(const fs::path& dir, const std::string& title) {
     std::cerr << "svo bench zoom: gnuplot is not installed; no plot (apt-get install gnuplot-nox)\n";
     return;
   }
-  std::ofstream gp(dir / "coherence.gp");
+  bench::TextFile gp(dir / "coherence.gp");
   const std::string csv = (dir / "coherence.csv").string();
   gp << "set terminal pngcairo size 1100,420 font 'sans,10'\nset output '" << (dir / "coherence.png").string()
      << "'\nset datafile separator ','\nset grid\nset key top right\nset logscale x\n"
@@ -98,7 +98,7 @@ void write_plot(const fs::path& dir, const std::string& title) {
      << "unset logscale y\nset title 'colour shift of the centre window'\nset ylabel 'relative'\n"
      << "plot '" << csv << "' every ::1 using 2:14 with linespoints pt 7 title '|mean - mean_{ref}| / |mean_{ref}|'\n"
      << "unset multiplot\n";
-  gp.close();
+  gp.save();
   if (std::system(("gnuplot '" + (dir / "coherence.gp").string() + "'").c_str()) != 0) {
     std::cerr << "svo bench zoom: gnuplot failed on " << (dir / "coherence.gp").string() << "\n";
   }
