@@ -2,6 +2,7 @@
 
 #include <xxhash.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -215,6 +216,21 @@ std::string check_shape(const Octree& t) {
     }
   }
   if (!std::isfinite(t.size) || !(t.size > 0)) return "size is " + str(t.size) + " (must be finite and > 0)";
+  float largest = 0;  // the domain's largest |coordinate|
+  for (int i = 0; i < 3; ++i) {
+    const float end = t.origin[i] + t.size;
+    largest = std::max({largest, std::abs(t.origin[i]), std::abs(end)});
+    if (!(std::abs(t.origin[i]) <= kMaxDomainCoordinate && std::abs(end) <= kMaxDomainCoordinate)) {
+      return "the domain [origin, origin + size] spans [" + str(t.origin[i]) + ", " + str(end) + "] on axis " + u(i) +
+             " (origin and origin + size must be within +-" + str(kMaxDomainCoordinate) + ")";
+    }
+  }
+  const float voxel = t.voxel_size(t.depth_count - 1);
+  if (!(voxel >= kMinVoxelSize) || !(voxel >= kMinVoxelRelative * largest)) {
+    return "size " + str(t.size) + " is too small to render: the finest voxel (size / " + u(resolution) + " = " +
+           str(voxel) + ") must be at least " + str(kMinVoxelSize) + " and at least 2^-23 of the domain's largest " +
+           "coordinate " + str(largest) + " (float precision)";
+  }
   if (!std::isfinite(t.sigma_rho2) || !(t.sigma_rho2 >= 0)) {
     return "sigma_rho2 is " + str(t.sigma_rho2) + " (must be finite and >= 0)";
   }

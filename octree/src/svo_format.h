@@ -33,6 +33,15 @@ inline constexpr uint32_t kMaxChannels = 16;
 inline constexpr uint32_t kMaxDepths = 16;
 inline constexpr uint32_t kMaxResolution = 65536;
 inline constexpr uint32_t kMinBrickSize = 2, kMaxBrickSize = 32;
+// The domain must be renderable in float (check_shape): its coordinates
+// within +-kMaxDomainCoordinate (a preset camera a few domain sizes away
+// keeps squared distances finite), and the finest voxel at least
+// kMinVoxelSize (its square, 2^-120, is a normal float) and at least
+// kMinVoxelRelative times the largest |coordinate| (one float step: voxels
+// that coordinates cannot tell apart cannot be rendered).
+inline constexpr float kMaxDomainCoordinate = 1e17f;
+inline constexpr float kMinVoxelSize = 0x1p-60f;
+inline constexpr float kMinVoxelRelative = 0x1p-23f;
 
 // Byte offsets of the header fields (svo_file.h).
 namespace at {

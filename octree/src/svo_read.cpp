@@ -36,7 +36,10 @@ std::string printable(const uint8_t* p, size_t n) {
 }
 
 // Checks the section [offset, offset + count * unit) against the file size,
-// the end of the previous section and its alignment; returns its end.
+// the end of the previous section and its alignment, and that it starts
+// right there (at the first multiple of `align` at or after previous_end),
+// so that no byte of the file lies outside the sections; returns its end.
+// Uses only header and table values: no byte of the section is read.
 uint64_t check_section(const std::string& name, uint64_t file_size, const std::string& what, uint64_t offset,
                        uint64_t count, uint64_t unit, uint64_t previous_end, uint64_t align) {
   auto fail = [&](const std::string& why) { throw FileError(name + ": " + why); };
@@ -49,6 +52,11 @@ uint64_t check_section(const std::string& name, uint64_t file_size, const std::s
     std::string need = count <= std::numeric_limits<uint64_t>::max() / unit ? u(count * unit) + " bytes"
                                                                             : u(count) + " x " + u(unit) + " bytes";
     fail("truncated: " + what + " needs " + need + " at offset " + u(offset) + ", file has " + u(file_size));
+  }
+  if (const uint64_t expected = align_up(previous_end, align); offset != expected) {
+    fail(what + " offset " + u(offset) + " leaves " + u(offset - previous_end) +
+         " bytes unused after the previous section, which ends at " + u(previous_end) + " (sections follow at " +
+         u(expected) + ", the next multiple of " + u(align) + ")");
   }
   return offset + count * unit;
 }
@@ -149,8 +157,8 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     if (std::string why = check_detail(shape_.detail, shape_.size); !why.empty()) fail(why);
   }
   if (const int m = shape_.channel_index(Channel::Material); m >= 0 && shape_.materials.size() < 2) {
-    fail(channel_label(size_t(m), shape_.channels[size_t(m)]) + ": a material channel needs two or more materials, the file has " +
-         u(shape_.materials.size()));
+    fail(channel_label(size_t(m), shape_.channels[size_t(m)]) +
+         ": a material channel needs two or more materials, the file has " + u(shape_.materials.size()));
   }
 
   end = check_section(name_, n, "depth table", h.depth_table_offset, uint64_t(h.depth_count) + 1, 4, end, kTableAlign);
@@ -176,8 +184,15 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     brick_data_.push_back(bytes.subspan(e.data_offset, e.data_bytes));
     brick_offsets_.push_back(e.data_offset);
   }
+  // Sizes against each other before any byte past the tables is read or hashed:
+  // a stated size that the sections do not need is refused here, in time
+  // independent of the file's size.
   if (h.file_bytes > n) fail("truncated: header records " + u(h.file_bytes) + " bytes, file has " + u(n));
   if (h.file_bytes < n) fail("file has " + u(n) + " bytes but its header records " + u(h.file_bytes));
+  if (h.file_bytes != end) {
+    fail("header records " + u(h.file_bytes) + " bytes but the sections end at " + u(end) + " (" +
+         u(h.file_bytes - end) + " bytes after the last section)");
+  }
   uint64_t payload_sum = checksum(bytes.subspan(kHeaderBytes));
   if (payload_sum != h.payload_checksum) {
     fail("corrupt data: checksum of bytes [128, " + u(n) + ") is " + u(payload_sum) + ", header records " +

@@ -323,8 +323,9 @@ void validate_camera(const Camera& c, const std::string& where) {
   for (const auto& [name, p] : {std::pair{"eye", c.eye}, std::pair{"target", c.target}}) {
     if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCameraCoordinate) {
       std::ostringstream s;
-      s << name << " " << vec_text(p) << " is too far out (" << length << " from the " << (std::string(name) == "eye" ? "target" : "eye")
-        << "): coordinates must be within +-" << kMaxCameraCoordinate << ", beyond which float arithmetic overflows";
+      s << name << " " << vec_text(p) << " is too far out (" << length << " from the "
+        << (std::string(name) == "eye" ? "target" : "eye") << "): coordinates must be within +-" << kMaxCameraCoordinate
+        << ", beyond which float arithmetic overflows";
       fail(s.str());
     }
   }

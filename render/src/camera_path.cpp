@@ -244,7 +244,8 @@ std::string camera_path_json(const CameraPath& path) {
   auto arr = [](glm::vec3 v) { return nlohmann::json::array({json_number(v.x), json_number(v.y), json_number(v.z)}); };
   nlohmann::json keys = nlohmann::json::array();
   for (const Camera& c : path.keys) {
-    keys.push_back({{"eye", arr(c.eye)}, {"target", arr(c.target)}, {"up", arr(c.up)}, {"fov", json_number(c.fov_deg)}});
+    keys.push_back(
+        {{"eye", arr(c.eye)}, {"target", arr(c.target)}, {"up", arr(c.up)}, {"fov", json_number(c.fov_deg)}});
   }
   nlohmann::json j{{"frames", path.frames}, {"keys", keys}};
   return j.dump(2) + "\n";

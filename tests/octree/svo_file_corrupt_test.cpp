@@ -2,6 +2,7 @@
 // are each one FileError naming the file, never a crash or a wrong tree.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -156,6 +157,20 @@ TEST_F(SvoCorrupt, AbsurdHeaderValues) {
   expect_forged_rejected(f32(at::size, -1.0f), "size is -1");
   expect_forged_rejected(f32(at::size, 0.0f), "size is 0");
   expect_forged_rejected(f32(at::size, INFINITY), "size is inf");
+  // Issue 22: a domain that cannot be rendered in float is refused by the
+  // loader (and so by `svo info` as by `svo render`), not by the renderer.
+  expect_forged_rejected(f32(at::size, 1e-45f),
+                         "size 1.4013e-45 is too small to render: the finest voxel (size / 16 = 0) must be at least");
+  expect_forged_rejected(f32(at::size, 1e-6f), "size 1e-06 is too small to render");  // below 2^-23 of the coordinate 2
+  expect_forged_rejected(
+      [&](auto& b) {
+        f32(at::origin, 3e38f)(b);
+        f32(at::size, 1e38f)(b);  // origin + size overflows
+      },
+      "the domain [origin, origin + size] spans [3e+38, inf] on axis 0");
+  expect_forged_rejected(f32(at::origin + 8, -1e18f),
+                         "spans [-1e+18, -1e+18] on axis 2 (origin and origin + size "
+                         "must be within +-1e+17)");
   expect_forged_rejected(f32(at::sigma_rho2, -0.5f), "sigma_rho2 is -0.5");
   expect_forged_rejected(f32(at::constant_colour + 8, NAN), "constant_colour[2] is nan");
 }
@@ -174,6 +189,31 @@ TEST_F(SvoCorrupt, SectionsOutOfPlace) {
   expect_forged_rejected(u64(at::file_bytes, good_.size() + 1), "truncated: header records");
   expect_forged_rejected(u64(at::file_bytes, good_.size() - 1), "but its header records");
   expect_forged_rejected([](auto& b) { b.insert(b.end(), 64, 0); }, "but its header records");
+  // Issue 22: no byte outside the sections, so that a stated size is never
+  // more than the sections need.
+  expect_forged_rejected(
+      [&](auto& b) {
+        b.insert(b.end(), 64, 0);
+        put_u64(b.data() + at::file_bytes, b.size());
+      },
+      "header records " + std::to_string(good_.size() + 64) + " bytes but the sections end at " +
+          std::to_string(good_.size()) + " (64 bytes after the last section)");
+  expect_forged_rejected(
+      [&](auto& b) {
+        b.insert(b.begin() + long(header_.node_table_offset), 64, 0);
+        put_u64(b.data() + at::node_table, header_.node_table_offset + 64);
+        put_u64(b.data() + at::file_bytes, b.size());
+      },
+      "node table offset " + std::to_string(header_.node_table_offset + 64) + " leaves");
+  expect_forged_rejected(
+      [&](auto& b) {
+        const uint64_t at0 = get_u32(channel(b, 0) + 16);
+        b.insert(b.begin() + long(at0), 128, 0);
+        for (size_t c = 0; c < header_.channel_count; ++c)
+          put_u64(channel(b, c) + 16, get_u32(channel(b, c) + 16) + 128);
+        put_u64(b.data() + at::file_bytes, b.size());
+      },
+      "channel 0 (distance) brick data offset");
   expect_forged_rejected(
       [&](auto& b) { put_u64(channel(b, 3) + 16, far); },
       "channel 3 (slope_dev) brick data needs 820 bytes at offset 1099511627776");  // 9 x 4^3 + 4 x 61
@@ -186,6 +226,29 @@ TEST_F(SvoCorrupt, SectionsOutOfPlace) {
   expect_forged_rejected([&](auto& b) { put_u64(channel(b, 6) + 24, 3 * 125 * 9); },
                          "channel 6 (colour_slope): data_bytes is 3375, expected");
   expect_forged_rejected([&](auto& b) { put_u64(channel(b, 0) + 24, ~uint64_t(0)); }, "data_bytes is");
+}
+
+// Issue 22, case 7: a sparse file whose header states 16 GiB (its sections
+// need a few KiB) is refused from its header and tables alone: no page of
+// the hole is read, nothing is hashed.
+TEST_F(SvoCorrupt, StatedSizeBeyondTheSectionsIsRefusedAtOnce) {
+  const std::string path = dir_ / "sparse.svo";
+  std::vector<uint8_t> bytes = good_;
+  const uint64_t stated = uint64_t(16) << 30;
+  put_u64(bytes.data() + at::file_bytes, stated);
+  put_u64(bytes.data() + at::header_checksum, format::checksum(std::span(bytes).first(at::header_checksum)));
+  testing::write_bytes(path, bytes);
+  std::filesystem::resize_file(path, stated);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    MappedSvo mapped(path);
+    FAIL() << "accepted a 16 GiB file whose sections need " << good_.size() << " bytes";
+  } catch (const FileError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": header records " + std::to_string(stated) +
+                                         " bytes but the sections end at " + std::to_string(good_.size()) + " (" +
+                                         std::to_string(stated - good_.size()) + " bytes after the last section)");
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
 TEST_F(SvoCorrupt, BadChannelTable) {
@@ -284,7 +347,11 @@ TEST_F(SvoCorrupt, DetailBlockValues) {
     format::seal(bytes);
     expect_rejected(bytes, what);
   };
-  auto f32 = [](float v) { uint32_t u; std::memcpy(&u, &v, 4); return u; };
+  auto f32 = [](float v) {
+    uint32_t u;
+    std::memcpy(&u, &v, 4);
+    return u;
+  };
   forged(0, 0, "detail octaves is 0 (must be in [1, 32])");
   forged(0, 33, "detail octaves is 33");
   forged(8, f32(std::nanf("")), "detail amplitude is nan");

@@ -53,8 +53,10 @@ TEST(SvoFile, RoundTripIsBitExact) {
 TEST(SvoFile, RoundTripKeepsSpecialFloats) {
   TempDir dir;
   Octree tree = make_test_tree(3);
-  tree.origin = {-0.0f, 1e-38f, -3.4e38f};  // negative zero, denormal-adjacent, near the largest float
-  tree.size = 1e-30f;
+  // Negative zero, denormal-adjacent, and at the domain's limit (svo_file.h:
+  // within +-1e17, the finest voxel at least 2^-23 of the largest coordinate).
+  tree.origin = {-0.0f, 1e-38f, -1e17f};
+  tree.size = 0x1.8p38f;  // finest voxel 1.5 * 2^34 (resolution 16), above 2^-23 * 1e17
   tree.sigma_rho2 = 0.0f;
   write_svo(dir / "f.svo", tree);
   expect_same_tree(tree, load_svo(dir / "f.svo"));

@@ -129,8 +129,18 @@ TEST(DeepZoomPath, RefusesBadArguments) {
             "deep-zoom: zoom 0.5 must be a finite number >= 1");
   EXPECT_EQ(error_of([&] { deep_zoom_path(start, glm::vec3(0), std::nanf(""), 10); }).rfind("deep-zoom: zoom", 0), 0u);
   EXPECT_EQ(error_of([&] { deep_zoom_path(start, glm::vec3(0), 10, 1); }), "deep-zoom: needs at least 2 frames, got 1");
-  EXPECT_EQ(error_of([&] { deep_zoom_path(start, start.eye, 10, 10); })
-                .rfind("deep-zoom: start camera looking at the target: eye and target are the same point", 0),
+  EXPECT_EQ(error_of([&] { deep_zoom_path(start, glm::vec3(0), 10, kMaxPathFrames + 1); }),
+            "deep-zoom: 100001 frames, above the limit of 100000");
+  EXPECT_EQ(error_of([&] { path_cameras(deep_zoom_path(start, glm::vec3(0), 10, 2)); }), "(no error)");
+  EXPECT_EQ(error_of([&] {
+              CameraPath p = deep_zoom_path(start, glm::vec3(0), 10, 2);
+              p.frames = 1000000;
+              path_cameras(p);
+            }),
+            "camera path: 1000000 frames, above the limit of 100000");
+  EXPECT_EQ(error_of([&] {
+              deep_zoom_path(start, start.eye, 10, 10);
+            }).rfind("deep-zoom: start camera looking at the target: eye and target are the same point", 0),
             0u);
 }
 
@@ -236,9 +246,18 @@ TEST(CameraPathJson, ErrorsNameTheFileAndTheProblem) {
                 .rfind("p.json: key 2: up (0, 0, 1) is parallel to the view direction", 0),
             0u);
   EXPECT_EQ(err("{\"frames\": 1, \"keys\": [" + k + "," + k + "]}"),
-            "p.json: \"frames\" must be an integer from 2 to 1000000");
+            "p.json: \"frames\" must be an integer from 2 to 100000");
   EXPECT_EQ(err("{\"frames\": 2.5, \"keys\": [" + k + "," + k + "]}"),
-            "p.json: \"frames\" must be an integer from 2 to 1000000");
+            "p.json: \"frames\" must be an integer from 2 to 100000");
+  // Issue 22: at most kMaxPathFrames, as --frames.
+  EXPECT_EQ(err("{\"frames\": 1000000, \"keys\": [" + k + "," + k + "]}"),
+            "p.json: \"frames\" is 1000000, above the limit of 100000 frames");
+  EXPECT_EQ(err("{\"frames\": 18446744073709551615, \"keys\": [" + k + "," + k + "]}"),
+            "p.json: \"frames\" is 18446744073709551615, above the limit of 100000 frames");
+  EXPECT_EQ(err("{\"frames\": -5, \"keys\": [" + k + "," + k + "]}"),
+            "p.json: \"frames\" must be an integer from 2 to 100000");
+  EXPECT_EQ(parse_camera_path("{\"frames\": 100000, \"keys\": [" + k + "," + k + "]}", "p.json").frames,
+            kMaxPathFrames);
   EXPECT_EQ(error_of([] { load_camera_path("/no/such/path.json"); }),
             "/no/such/path.json: cannot open camera path file");
 }
@@ -256,9 +275,15 @@ TEST(CameraPathJson, MutatedTextNeverEscapesTheErrorPolicy) {
     for (int e = 0; e < edits && !text.empty(); ++e) {
       const size_t at = rng() % text.size();
       switch (rng() % 3) {
-        case 0: text[at] = alphabet[rng() % alphabet.size()]; break;
-        case 1: text.erase(at, 1 + rng() % 8); break;
-        default: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+        case 0:
+          text[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
       }
     }
     try {

@@ -56,6 +56,20 @@ TEST(ParseCamera, ErrorsNameTheProblem) {
             "--camera '1,2,3,1,2,3,0,1,0,40': eye and target are the same point (1, 2, 3)");
   EXPECT_EQ(error_of([] { parse_camera("0,5,0,0,0,0,0,2,0,40"); }),
             "--camera '0,5,0,0,0,0,0,2,0,40': up (0, 2, 0) is parallel to the view direction (0, -1, 0)");
+  // Issue 22: an eye far out is said to be far out (its squared distance
+  // overflowed a float, which read as "the same point").
+  EXPECT_EQ(error_of([] { parse_camera("1e30,0,0,0,0,0,0,1,0,40"); }),
+            "--camera '1e30,0,0,0,0,0,0,1,0,40': eye (1e+30, 0, 0) is too far out (1e+30 from the target): "
+            "coordinates must be within +-1e+18, beyond which float arithmetic overflows");
+  EXPECT_EQ(
+      error_of([] {
+        parse_camera("0,0,1,0,-2e20,0,0,1,0,40");
+      }).rfind("--camera '0,0,1,0,-2e20,0,0,1,0,40': target (0, -2e+20, 0) is too far out (2e+20 from the eye)", 0),
+      0u);
+  EXPECT_NO_THROW(parse_camera("1e18,0,0,0,0,0,0,1,0,40"));
+  EXPECT_EQ(error_of([] { parse_camera("1e6,0,0,1e6,0.5,0,0,0,1,40"); }),
+            "--camera '1e6,0,0,1e6,0.5,0,0,0,1,40': eye (1e+06, 0, 0) and target (1e+06, 0.5, 0) are too close for "
+            "float precision (0.5 apart; at least 1e-6 x max(1, |eye|) = 1)");
   EXPECT_EQ(error_of([] { parse_camera("0,0,5,0,0,0,0,0,0,40"); }),
             "--camera '0,0,5,0,0,0,0,0,0,40': up is the zero vector");
   for (const char* fov : {"0", "180", "-10", "200"}) {

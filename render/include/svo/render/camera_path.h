@@ -16,8 +16,12 @@
 
 namespace svo::render {
 
+// The most frames a path may ask for: path files, --frames and deep zooms
+// (a flythrough writes one image per frame).
+inline constexpr uint32_t kMaxPathFrames = 100000;
+
 // A path: keyframes (pinhole cameras, validate_camera's rules) and the
-// number of frames to render along it. Frame f of N sits at key parameter
+// number of frames to render along it, in [2, kMaxPathFrames]. Frame f of N sits at key parameter
 // u = f (K - 1) / (N - 1) (K keys): frames are spread evenly over the
 // segments, and the keys are frames whenever K - 1 divides N - 1.
 struct CameraPath {
@@ -46,7 +50,8 @@ float view_width(const Camera& camera);
 Camera sample_path(const std::vector<Camera>& keys, double u);
 
 // The N cameras of `path` (sample_path at u = f (K - 1) / (N - 1)).
-// @throw std::invalid_argument for fewer than 2 keys or frames.
+// @throw std::invalid_argument for fewer than 2 keys, fewer than 2 frames or
+//        more than kMaxPathFrames.
 std::vector<Camera> path_cameras(const CameraPath& path);
 
 // A deep zoom: `frames` cameras from `start` (frame 0 keeps start's eye, up
@@ -57,7 +62,7 @@ std::vector<Camera> path_cameras(const CameraPath& path);
 // the first. The field of view stays fixed. Returned as a two-key path
 // (sample_path reproduces it exactly).
 // @throw std::invalid_argument "deep-zoom: <why>" for zoom not finite or
-//        < 1, frames < 2, or a start camera that validate_camera refuses
+//        < 1, frames outside [2, kMaxPathFrames], or a start camera that validate_camera refuses
 //        with `target` as its target.
 CameraPath deep_zoom_path(const Camera& start, glm::vec3 target, float zoom, uint32_t frames);
 
@@ -77,7 +82,7 @@ std::optional<glm::vec3> surface_target(const octree::Octree& tree, const Camera
 std::optional<glm::vec3> silhouette_target(const octree::Octree& tree, const Camera& camera, float aspect);
 
 // A path file:
-//   {"frames": N (optional, >= 2), "keys": [KEY, KEY, ...]}   or   [KEY, KEY, ...]
+//   {"frames": N (optional, in [2, kMaxPathFrames]), "keys": [KEY, KEY, ...]}   or   [KEY, KEY, ...]
 // with KEY = {"eye": [x, y, z], "target": [x, y, z], "up": [x, y, z],
 // "fov": degrees} (the camera file's form, pinhole only; unknown keys are
 // ignored). `frames` is left at `default_frames` when the file has none.
@@ -86,7 +91,9 @@ std::optional<glm::vec3> silhouette_target(const octree::Octree& tree, const Cam
 //        for text that is not JSON; std::invalid_argument "<source_name>:
 //        <what is wrong>" for a wrong shape, a missing key ("key 2: missing
 //        \"eye\""), a value that is not a finite number, fewer than 2 keys,
-//        a key that validate_camera refuses, or frames < 2.
+//        a key that validate_camera refuses, frames < 2, or frames above
+//        kMaxPathFrames ("<source_name>: \"frames\" is N, above the limit of
+//        100000 frames"), refused before any camera is made.
 CameraPath parse_camera_path(std::string_view json, const std::string& source_name, uint32_t default_frames = 60);
 
 // Reads `path` and parses it (parse_camera_path with the path as source name).
