@@ -21,6 +21,7 @@ struct CompareArgs {
   double diff_scale = 0;
   double diff_percentile = 0;  // > 0: the diff's scale at this percentile of the per-pixel error
   bool json = false;
+  double max_megapixels = 32;
 };
 
 nlohmann::json optional_json(const std::optional<double>& v) {
@@ -41,6 +42,12 @@ void add_compare_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<CompareArgs>();
   cmd->add_option("A", a->image, "The image to judge (e.g. svo render's .exr)")->required()->group("Input");
   cmd->add_option("B", a->reference, "The reference (e.g. svo reference's .exr)")->required()->group("Input");
+  cmd->add_option("--max-megapixels", a->max_megapixels,
+                  "Refuse an input of more pixels than this (in units of 2^20), from its header, before reading it "
+                  "(about 60 bytes of memory per pixel of each input)")
+      ->default_val(32)
+      ->check(CLI::Range(0.001, 256.0))
+      ->group("Input");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: rmse, relmse, psnr (null when the colours are identical), "
                 "max_error, coverage_error, coverage_error_silhouette, silhouette_pixels (coverage figures null "
@@ -67,8 +74,9 @@ void add_compare_command(CLI::App& app, int& exit_code) {
       render::image_format(a->diff);
       render::check_writable_output(a->diff);
     }
-    const render::Image image = render::read_image(a->image);
-    const render::Image reference = render::read_image(a->reference);
+    const uint64_t max_pixels = uint64_t(a->max_megapixels * 1048576.0);
+    const render::Image image = render::read_image(a->image, max_pixels, "--max-megapixels");
+    const render::Image reference = render::read_image(a->reference, max_pixels, "--max-megapixels");
     const reference::ImageErrors e = reference::compare_images(image, reference, a->image, a->reference);
     double scale = a->diff_scale;
     if (!a->diff.empty()) {

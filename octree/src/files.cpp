@@ -37,6 +37,15 @@ std::string file_kind(fs::file_type type) {
   }
 }
 
+std::string file_kind_of_mode(unsigned mode) {
+  if (S_ISDIR(mode)) return file_kind(fs::file_type::directory);
+  if (S_ISFIFO(mode)) return file_kind(fs::file_type::fifo);
+  if (S_ISCHR(mode)) return file_kind(fs::file_type::character);
+  if (S_ISBLK(mode)) return file_kind(fs::file_type::block);
+  if (S_ISSOCK(mode)) return file_kind(fs::file_type::socket);
+  return file_kind(fs::file_type::unknown);
+}
+
 uintmax_t require_regular_file(const std::string& path, const std::string& what) {
   if (path.empty()) throw FileError("an empty file name, expected " + what);
   std::error_code ec;
@@ -104,10 +113,8 @@ std::string resolve_output(const std::string& path) {
   }
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0) {
-    std::error_code ignored;
     if (!S_ISREG(st.st_mode)) {
-      throw FileError(path + ": is " + file_kind(fs::status(target, ignored).type()) +
-                      "; outputs replace only regular files");
+      throw FileError(path + ": is " + file_kind_of_mode(st.st_mode) + "; outputs replace only regular files");
     }
     if ((st.st_mode & 0222) == 0) {
       throw FileError(path + ": is read-only; make it writable (chmod u+w) or remove it to replace it");
@@ -115,7 +122,9 @@ std::string resolve_output(const std::string& path) {
   } else if (errno != ENOENT) {
     throw FileError(path + ": " + std::strerror(errno));
   }
-  const std::string dir = parent_of(target);
+  std::error_code ec;
+  const std::string dir = fs::absolute(target, ec).parent_path().string();
+  if (ec) throw FileError(path + ": " + ec.message());
   struct stat d {};
   if (::stat(dir.c_str(), &d) != 0) throw FileError(path + ": directory " + dir + " does not exist");
   if (!S_ISDIR(d.st_mode)) throw FileError(path + ": " + dir + " is not a directory");

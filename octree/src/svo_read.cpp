@@ -10,6 +10,7 @@
 #include <limits>
 #include <utility>
 
+#include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
 #include "svo_format.h"
 
@@ -235,7 +236,7 @@ MappedSvo::MappedSvo(const std::string& path) {
   }
   if (!S_ISREG(st.st_mode)) {
     ::close(fd);
-    fail(S_ISDIR(st.st_mode) ? "is a directory, not an .svo file" : "not a regular file");
+    fail("is " + files::file_kind_of_mode(st.st_mode) + ", expected a .svo file");
   }
   size_t size = size_t(st.st_size);
   if (size > 0) {

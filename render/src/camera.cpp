@@ -366,11 +366,9 @@ Camera parse_camera(std::string_view text) {
 }
 
 Camera load_camera_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open camera file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_camera_json(text.str(), path);
+  // A regular file of at most 1 MiB: a FIFO or /dev/zero named here would
+  // hang or eat memory.
+  return parse_camera_json(files::read_bounded(path, 1 << 20, "a camera file (JSON)"), path);
 }
 
 Camera parse_camera_json(std::string_view text, const std::string& path) {

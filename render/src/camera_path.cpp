@@ -232,12 +232,8 @@ CameraPath parse_camera_path(std::string_view text, const std::string& source_na
 }
 
 CameraPath load_camera_path(const std::string& file, uint32_t default_frames) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file + ": cannot open camera path file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(file + ": cannot read camera path file");
-  return parse_camera_path(text.str(), file, default_frames);
+  // A regular file of at most 64 MiB (tens of thousands of keys fit).
+  return parse_camera_path(files::read_bounded(file, 64 << 20, "a camera path file (JSON)"), file, default_frames);
 }
 
 std::string camera_path_json(const CameraPath& path) {

@@ -260,8 +260,12 @@ Image frame_image(const Frame& frame) {
   return im;
 }
 
-Image read_image(const std::string& path) {
-  if (!fs::exists(path)) throw ImageError(path + ": no such file");
+Image read_image(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
+  try {
+    files::require_regular_file(path, "an image");
+  } catch (const files::FileError& e) {
+    throw ImageError(e.what());
+  }
   // Checks in front of the format libraries, which trust their headers.
   for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
     if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
@@ -276,6 +280,11 @@ Image read_image(const std::string& path) {
     throw ImageError(path + ": not a 2D image");
   }
   // From the header, before the allocation: a forged size is refused here.
+  if (uint64_t(spec.width) * uint64_t(spec.height) > max_pixels) {
+    throw ImageError(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                     " pixels, more than the limit of " + std::to_string(max_pixels) +
+                     (limit_option.empty() ? "" : " (" + limit_option + ")"));
+  }
   if (double(spec.width) * double(spec.height) * double(spec.nchannels) > kMaxImageSamples) {
     throw ImageError(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
                      std::to_string(spec.nchannels) + " samples, more than the limit of 2^28");

@@ -392,7 +392,7 @@ LightField load_light_field(const fs::path& path) {
   // And again on what was opened (the path may have changed in between).
   struct stat st {};
   if (::fstat(fd, &st) != 0) fail(name, std::string("cannot inspect: ") + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) fail(name, "is not a regular file, expected a .lfl file");
+  if (!S_ISREG(st.st_mode)) fail(name, "is " + files::file_kind_of_mode(st.st_mode) + ", expected a .lfl file");
   const uint64_t file_bytes = uint64_t(st.st_size);
   if (file_bytes > kMaxFileBytes) {
     fail(name, std::to_string(file_bytes) + " bytes, more than the largest light field (" +

@@ -15,8 +15,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "svo/octree/files.h"
 #include "common/shared_math.h"
+#include "svo/octree/files.h"
 
 namespace svo::math {
 // merl.glsl over one BRDF's values (at offset 0) or over the shading tables.
@@ -39,15 +39,6 @@ constexpr const char* kChannel[3] = {"R", "G", "B"};
 
 [[noreturn]] void fail(const fs::path& path, const std::string& why) {
   throw std::runtime_error("merl: " + path.string() + ": " + why);
-}
-
-std::string kind_of(const struct stat& st) {
-  if (S_ISDIR(st.st_mode)) return "a directory";
-  if (S_ISFIFO(st.st_mode)) return "a FIFO";
-  if (S_ISCHR(st.st_mode)) return "a character device";
-  if (S_ISBLK(st.st_mode)) return "a block device";
-  if (S_ISSOCK(st.st_mode)) return "a socket";
-  return "not a regular file";
 }
 
 // Where sample k lies in the table, for messages.
@@ -116,7 +107,7 @@ MerlBrdf load_merl(const fs::path& path) {
   // And again on what was opened (the path may have changed in between).
   struct stat st {};
   if (::fstat(file.fd, &st) != 0) fail(path, std::string("cannot inspect: ") + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) fail(path, "is " + kind_of(st) + ", expected a MERL .binary file");
+  if (!S_ISREG(st.st_mode)) fail(path, "is " + files::file_kind_of_mode(st.st_mode) + ", expected a MERL .binary file");
   if (uint64_t(st.st_size) != kMerlFileBytes) {
     fail(path, std::to_string(st.st_size) + " bytes, expected " + std::to_string(kMerlFileBytes) +
                    " (a 12-byte header and 3 x 90 x 90 x 180 doubles)");

@@ -44,6 +44,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "svo/octree/files.h"
 #include "svo/render/luminaire.h"
 
 namespace svo::render {
@@ -104,7 +105,7 @@ class RayFile {
     }
     if (!S_ISREG(st.st_mode)) {
       ::close(fd_);
-      fail(path, "not a regular file");
+      fail(path, "is " + files::file_kind_of_mode(st.st_mode) + ", expected a TM-25 ray file");
     }
     size_ = uint64_t(st.st_size);
   }

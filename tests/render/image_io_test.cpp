@@ -205,7 +205,8 @@ TEST(CheckWritableOutput, RefusesMissingDirectoriesFilesAndDirectories) {
   EXPECT_EQ(error_of([&] { check_writable_output(dir / "file/a.png"); }),
             (dir / "file/a.png") + ": " + (dir / "file") + " is not a directory");
   fs::create_directory(dir / "d.png");
-  EXPECT_EQ(error_of([&] { check_writable_output(dir / "d.png"); }), (dir / "d.png") + ": is a directory");
+  EXPECT_EQ(error_of([&] { check_writable_output(dir / "d.png"); }),
+            (dir / "d.png") + ": is a directory; outputs replace only regular files");
 }
 
 // A write into a directory that does not allow it (mode 0555, as a user

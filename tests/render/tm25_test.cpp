@@ -231,9 +231,9 @@ TEST(Tm25, HostileFilesAreRefused) {
   {
     const std::string fifo = dir / "fifo.tm25ray";
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    expect_refused(fifo, "not a regular file");
+    expect_refused(fifo, "is a FIFO, expected a TM-25 ray file");
   }
-  expect_refused("/dev/zero", "not a regular file");
+  expect_refused("/dev/zero", "is a character device, expected a TM-25 ray file");
   expect_refused(dir / "missing.tm25ray", "cannot open");
   EXPECT_THROW(import_tm25(dir / "good.tm25ray", 0, 8), std::invalid_argument);
   EXPECT_THROW(import_tm25(dir / "good.tm25ray", 4, 2000), std::invalid_argument);

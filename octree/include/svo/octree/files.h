@@ -21,6 +21,8 @@ class FileError : public std::runtime_error {
 // "a FIFO", "a character device", "a block device", "a socket", or "not a
 // regular file".
 std::string file_kind(std::filesystem::file_type type);
+// The same from a stat() mode (st_mode), for a file already opened.
+std::string file_kind_of_mode(unsigned mode);
 
 // Checks that `path` names a regular file (a symlink to one is fine) before
 // anything opens it; returns its size in bytes.

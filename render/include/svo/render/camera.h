@@ -58,7 +58,7 @@ Camera parse_camera(std::string_view text);
 // focus distance (optional; required when aperture > 0)}. Unknown keys are
 // ignored.
 // @throw std::runtime_error "<path>: <what is wrong>" for a file that cannot
-//        be read or is not JSON; std::invalid_argument "<path>: <what is
+//        be read (missing, not a regular file, over 1 MiB) or is not JSON; std::invalid_argument "<path>: <what is
 //        wrong>" for a missing key, a wrong type and validate_camera's checks.
 Camera load_camera_json(const std::string& path);
 

@@ -97,7 +97,8 @@ std::optional<glm::vec3> silhouette_target(const octree::Octree& tree, const Cam
 CameraPath parse_camera_path(std::string_view json, const std::string& source_name, uint32_t default_frames = 60);
 
 // Reads `path` and parses it (parse_camera_path with the path as source name).
-// @throw std::runtime_error "<path>: cannot open camera path file"; what parse_camera_path throws.
+// @throw svo::files::FileError for a missing file, one that is not a regular file (a FIFO, a
+//        device) or one larger than 64 MiB; what parse_camera_path throws.
 CameraPath load_camera_path(const std::string& path, uint32_t default_frames = 60);
 
 // The JSON text parse_camera_path reads ({"frames": N, "keys": [...]}),

@@ -88,17 +88,26 @@ struct Image {
   }
 };
 
+inline constexpr double kMaxImageSamples = 268435456.0;  // 2^28: 1 GiB of floats
+// The default budget of read_image: 2^25 pixels (8192 x 4096), about 0.5 GiB
+// as RGBA floats.
+inline constexpr uint64_t kDefaultMaxImagePixels = uint64_t(1) << 25;
+
 // Reads any image OpenImageIO reads, as float. 8- and 16-bit files in the
 // sRGB colour space (PNG, as written here) are converted to linear values,
 // so that a PNG and an EXR of the same frame compare directly.
-// Images of more than kMaxImageSamples samples (width x height x channels)
-// are refused from their header, before their pixels are allocated.
-// @throw ImageError "<path>: <reason>" (cannot open, not an image, too large, ...).
-Image read_image(const std::string& path);
+// Only a regular file is opened (a FIFO or a link to /dev/zero would hang
+// the format libraries). Images of more than `max_pixels` pixels or
+// kMaxImageSamples samples (width x height x channels) are refused from
+// their header, before their pixels are allocated; `limit_option` (e.g.
+// "--max-megapixels") is named in that message as the way to raise it.
+// @throw ImageError "<path>: <reason>" (does not exist, is a FIFO, cannot
+//        open, not an image, too large, ...).
+Image read_image(const std::string& path, uint64_t max_pixels = kDefaultMaxImagePixels,
+                 const std::string& limit_option = "");
 
 // A frame's colour as an image of channels R, G, B, A (for compare_images and the like).
 Image frame_image(const Frame& frame);
-inline constexpr double kMaxImageSamples = 268435456.0;  // 2^28: 1 GiB of floats
 
 // The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
 float linear_to_srgb(float linear);
