@@ -28,6 +28,8 @@ struct VoxelizeArgs {
   uint32_t resolution = 256;
   uint32_t brick = 8;
   double max_memory_mb = 0;
+  double max_texture_mpix = voxelizer::kDefaultMaxTexturePixels / 1048576.0;
+  double max_texture_mpix_total = voxelizer::kDefaultMaxTotalTexturePixels / 1048576.0;
   bool json = false;
 };
 
@@ -47,8 +49,11 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
   cmd->get_option("input")->description(
       "Mesh file: OBJ, PLY, OFF or STL. A mesh with holes is drawn as a solid when they are small (the "
       "generalized winding number is within 0.05 of 0 and 1 on 95% of its area), else two-sided, a thin shell "
-      "around every triangle, as svo reference shows it; a warning says which");
-  cmd->add_option("-o,--output", a->output, "Output .svo file (written to a temporary name, then renamed; a symbolic link is written through, a "
+      "around every triangle, as svo reference shows it; a warning says which. Refused: polygons of more than 1000 "
+      "corners, more than 100 million triangles, face indices that name no vertex, coordinates that are not finite "
+      "or beyond 1e15, a bounding box below 1e-12, an mtllib file or texture that is not a regular file");
+  cmd->add_option("-o,--output", a->output,
+                  "Output .svo file (written to a temporary name, then renamed; a symbolic link is written through, a "
                   "read-only file refused)")
       ->required()
       ->group("Output");
@@ -70,6 +75,17 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                   "Refuse to start above this estimated memory, MiB (default: available memory)")
       ->check(CLI::PositiveNumber)
       ->group("Limits");
+  cmd->add_option("--max-texture-mpix", a->max_texture_mpix,
+                  "Largest texture a mesh may name, Mi pixels (2^20), from its header before it is decoded; twice "
+                  "its square root a side")
+      ->default_val(a->max_texture_mpix)
+      ->check(CLI::Range(1.0, 4096.0))
+      ->group("Limits");
+  cmd->add_option("--max-texture-mpix-total", a->max_texture_mpix_total,
+                  "All textures of the mesh (or scene file) together, Mi pixels; 12 bytes each once read")
+      ->default_val(a->max_texture_mpix_total)
+      ->check(CLI::Range(1.0, 65536.0))
+      ->group("Limits");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
   cmd->callback([a, &exit_code] {
@@ -83,8 +99,13 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       // open surface, whose inside the level set guesses): one line each on
       // stderr, the run goes on. (svo reference ray traces the triangles
       // themselves: neither matters there.)
-      source = voxelizer::mesh_source(
-          read_source_mesh(a->source, [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; }));
+      voxelizer::MeshOptions options = mesh_options(a->source);
+      options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
+      options.max_texture_pixels = a->max_texture_mpix * 1048576.0;
+      options.max_total_texture_pixels = a->max_texture_mpix_total * 1048576.0;
+      source = voxelizer::mesh_source(a->source.scene_file.empty()
+                                          ? voxelizer::read_mesh(a->source.input, options)
+                                          : voxelizer::read_scene_file(a->source.scene_file, options));
     }
     // The source's own materials are checked now, not when rendering.
     render::parse_scene_materials(source->materials(), what);

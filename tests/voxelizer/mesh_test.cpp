@@ -383,14 +383,22 @@ TEST(Mesh, UsemtlGroupsBecomeMaterials) {
   EXPECT_EQ(scene.face_material[23], 3u);
 }
 
-// mtllib naming something that is not a small regular file is not read (a
-// FIFO or /dev/zero would hang or eat memory).
-TEST(Mesh, MtllibNamingADeviceIsNotRead) {
-  std::string obj = "mtllib /dev/zero\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n";
-  obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" + obj;
-  const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(write_file("devzero.obj", obj));
+// mtllib naming something that is not a regular file is refused before
+// anything opens it (a FIFO or /dev/zero would hang or eat memory; issue
+// 22); one that does not exist is a warning, its materials the defaults.
+TEST(Mesh, MtllibNamingADeviceIsRefusedAMissingOneWarned) {
+  const std::string faces = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n";
+  const std::string devzero = write_file("devzero.obj", "mtllib /dev/zero\n" + faces);
+  expect_error(devzero, "mtllib /dev/zero: is a character device, expected an MTL material file");
+  std::vector<std::string> warnings;
+  voxelizer::MeshOptions options;
+  options.warning = [&](const std::string& line) { warnings.push_back(line); };
+  const voxelizer::TriangleMesh mesh =
+      voxelizer::read_mesh(write_file("nomtl.obj", "mtllib none.mtl\n" + faces), options);
   ASSERT_EQ(mesh.materials.size(), 2u);
   EXPECT_NE(mesh.materials[0].find("lambert"), std::string::npos);
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("none.mtl does not exist: its materials are not used"), std::string::npos) << warnings[0];
 }
 
 }  // namespace

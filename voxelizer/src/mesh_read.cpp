@@ -20,6 +20,8 @@
 #include <stdexcept>
 
 #include "common/shared_math.h"
+#include "mesh_screen.h"
+#include "svo/octree/files.h"
 #include "svo/octree/image_header.h"
 #include "svo/voxelizer/mesh.h"
 #include "svo/voxelizer/winding.h"
@@ -39,272 +41,7 @@ struct MeshTraits : OpenMesh::DefaultTraits {
   using Color = OpenMesh::Vec3f;
 };
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
-
-// ---- Screening of the headers OpenMesh trusts. OpenMesh 9.0's PLY reader
-// writes through a wild pointer on a property type it does not know (found
-// by the mesh_file fuzz target), and its readers reserve memory for the
-// element counts of a header: both are checked here first, strictly.
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-// "" when the PLY header is one OpenMesh can be given, else the problem.
-// Every element needs at least one byte: a count above the file's size is
-// refused before any reader reserves memory for it.
-// The body of an ASCII PLY, one line per element: OpenMesh loops over a
-// list's count as read, so a count of garbage made it push gigabytes of
-// handles (found by the mesh_file fuzz target). Each line: one number per
-// scalar property, for a list a count from 0 to 1000 then that many
-// numbers; nothing else.
-template <typename Element>
-std::string screen_ply_ascii_body(std::istream& in, const std::vector<Element>& declared, int header_lines) {
-  std::string line;
-  size_t number = size_t(header_lines);
-  auto is_number = [](const std::string& t) {
-    char* end = nullptr;
-    std::strtod(t.c_str(), &end);
-    return !t.empty() && end == t.c_str() + t.size();
-  };
-  for (const Element& e : declared) {
-    for (int64_t i = 0; i < e.count; ++i) {
-      if (!std::getline(in, line)) return "PLY file ends before its elements";
-      ++number;
-      std::istringstream words(line);
-      std::vector<std::string> w;
-      for (std::string word; words >> word;) w.push_back(word);
-      const std::string where = "PLY line " + std::to_string(number) + ": ";
-      size_t at = 0;
-      for (bool list : e.lists) {
-        if (at >= w.size()) return where + "fewer values than the element's properties";
-        if (list) {
-          const std::string& c = w[at];
-          if (c.empty() || c.size() > 4 || c.find_first_not_of("0123456789") != std::string::npos ||
-              std::stoi(c) > 1000) {
-            return where + "a list count '" + c.substr(0, 40) + "' is not an integer from 0 to 1000";
-          }
-          at += 1 + size_t(std::stoi(c));
-          if (at > w.size()) return where + "fewer list values than its count";
-          for (size_t k = at - size_t(std::stoi(c)); k < at; ++k) {
-            if (!is_number(w[k])) return where + "'" + w[k].substr(0, 40) + "' is not a number";
-          }
-        } else {
-          if (!is_number(w[at])) return where + "'" + w[at].substr(0, 40) + "' is not a number";
-          ++at;
-        }
-      }
-      if (at != w.size()) return where + "more values than the element's properties";
-    }
-  }
-  return "";
-}
-
-std::string screen_ply(std::istream& in, uintmax_t file_bytes) {
-  static const std::set<std::string> kTypes = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
-                                               "float", "double", "int8",    "uint8",  "int16", "uint16",
-                                               "int32", "uint32", "float32", "float64"};
-  std::string line;
-  bool elements = false, ascii = false;
-  struct Element {
-    int64_t count = 0;
-    std::vector<bool> lists;  // per property: a list?
-  };
-  std::vector<Element> declared;
-  for (int number = 1; number <= 1000 && std::getline(in, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string where = "PLY header line " + std::to_string(number) + ": ";
-    for (char c : line) {
-      if (static_cast<unsigned char>(c) < 0x20 && c != '\t') return where + "a control character";
-    }
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string word; words >> word;) w.push_back(word);
-    if (number == 1) {
-      if (w.size() != 1 || w[0] != "ply") return "not a PLY file (no 'ply' line)";
-      continue;
-    }
-    if (number == 2) {
-      if (w.size() != 3 || w[0] != "format" ||
-          (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") || w[2] != "1.0") {
-        return where + "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'";
-      }
-      ascii = w[1] == "ascii";
-      continue;
-    }
-    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
-    if (w[0] == "end_header") {
-      if (!elements) return where + "no element";
-      return ascii ? screen_ply_ascii_body(in, declared, number) : "";
-    }
-    if (w[0] == "element") {
-      if (w.size() != 3 || w[2].empty() || w[2].size() > 12 ||
-          w[2].find_first_not_of("0123456789") != std::string::npos) {
-        return where + "expected 'element NAME COUNT'";
-      }
-      if (std::stod(w[2]) > double(file_bytes)) {
-        return where + "element " + w[1] + " claims " + w[2] + " entries, more than the file's " +
-               std::to_string(file_bytes) + " bytes can hold";
-      }
-      elements = true;
-      declared.push_back({int64_t(std::stod(w[2])), {}});
-      continue;
-    }
-    if (w[0] == "property") {
-      if (!elements) return where + "a property before any element";
-      const bool scalar = w.size() == 3 && kTypes.count(w[1]);
-      const bool list = w.size() == 5 && w[1] == "list" && kTypes.count(w[2]) && kTypes.count(w[3]);
-      if (!scalar && !list) return where + "expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'";
-      declared.back().lists.push_back(list);
-      continue;
-    }
-    return where + "unknown keyword '" + w[0].substr(0, 40) + "'";
-  }
-  return "PLY header without end_header in its first 1000 lines";
-}
-
-// OFF: a first line OpenMesh reads as it means it ([ST][C][N][4][n]OFF and
-// nothing else), and counts that are plain non-negative integers no larger
-// than the file: OpenMesh reads "-5" into an unsigned count and reserves
-// memory for it (16 GiB, found by the mesh_file fuzz target). Binary OFF is
-// refused (its counts' byte order is OpenMesh's guess).
-std::string screen_off(std::istream& in, uintmax_t file_bytes) {
-  std::string first;
-  std::getline(in, first);
-  if (!first.empty() && first.back() == '\r') first.pop_back();
-  size_t at = 0;
-  for (const char* prefix : {"ST", "C", "N", "4", "n"}) {
-    if (first.compare(at, std::strlen(prefix), prefix) == 0) at += std::strlen(prefix);
-  }
-  if (first.compare(at, 3, "OFF") != 0) return "";  // not OFF: OpenMesh's OFF reader will not take it
-  const std::string rest = first.substr(at + 3);
-  if (rest.find("BINARY") != std::string::npos) return "binary OFF is not supported (use ASCII OFF, PLY or OBJ)";
-  if (rest.find_first_not_of(" \t") != std::string::npos) return "OFF header: unexpected text after the keyword";
-  double counts[3] = {0, 0, 0};
-  for (double& c : counts) {
-    std::string word;
-    // Comments may sit between the keyword and the counts.
-    while (in >> word && word[0] == '#') in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    if (word.empty() || word.size() > 12 || word.find_first_not_of("0123456789") != std::string::npos) {
-      return "OFF header: expected the vertex, face and edge counts as non-negative integers";
-    }
-    c = std::stod(word);
-  }
-  if (counts[0] + counts[1] > double(file_bytes)) {
-    return "OFF header claims " + std::to_string(int64_t(counts[0])) + " vertices and " +
-           std::to_string(int64_t(counts[1])) + " faces, more than the file's " + std::to_string(file_bytes) +
-           " bytes can hold";
-  }
-  // The body, line by line: OpenMesh loops over a face's corner count as
-  // read, so "111...1" (an overflow: 2^32 - 1) made it push 4 GiB of
-  // handles (found by the mesh_file fuzz target). Vertex lines: 3 or more
-  // numbers; face lines: a count K in [1, 1000], then K indices in
-  // [0, vertices), then at most 4 colour numbers; blank and # lines skipped.
-  in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  const int64_t vertices = int64_t(counts[0]), faces = int64_t(counts[1]);
-  std::string line;
-  int64_t seen_vertices = 0, seen_faces = 0;
-  for (size_t number = 3; seen_faces < faces && std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string word; words >> word && word[0] != '#';) w.push_back(word);
-    if (w.empty()) continue;
-    const std::string where = "OFF line " + std::to_string(number) + ": ";
-    auto is_number = [](const std::string& t) {
-      char* end = nullptr;
-      std::strtod(t.c_str(), &end);
-      return end == t.c_str() + t.size();
-    };
-    auto is_index = [](const std::string& t, int64_t below) {
-      return !t.empty() && t.size() <= 10 && t.find_first_not_of("0123456789") == std::string::npos &&
-             std::stoll(t) < below;
-    };
-    if (seen_vertices < vertices) {
-      if (w.size() < 3) return where + "a vertex needs 3 coordinates";
-      for (const auto& t : w) {
-        if (!is_number(t)) return where + "'" + t.substr(0, 40) + "' is not a number";
-      }
-      ++seen_vertices;
-      continue;
-    }
-    if (!is_index(w[0], 1001) || w[0] == "0") return where + "a face starts with its corner count, 1 to 1000";
-    const size_t k = size_t(std::stoll(w[0]));
-    if (w.size() < 1 + k || w.size() > 1 + k + 4)
-      return where + "expected " + w[0] + " corners (and up to 4 colour numbers)";
-    for (size_t i = 1; i <= k; ++i) {
-      if (!is_index(w[i], vertices)) return where + "corner '" + w[i].substr(0, 40) + "' is not a vertex index";
-    }
-    for (size_t i = k + 1; i < w.size(); ++i) {
-      if (!is_number(w[i])) return where + "'" + w[i].substr(0, 40) + "' is not a number";
-    }
-    ++seen_faces;
-  }
-  if (seen_vertices < vertices || seen_faces < faces) return "OFF file ends before its vertices and faces";
-  return "";
-}
-
-// OBJ faces: OpenMesh 9.0 asserts (aborts) on a face line whose corners it
-// cannot parse (found by the mesh_file fuzz target). Each corner must be
-// V, V/T, V//N or V/T/N with V and T non-zero integers, and a face needs 3.
-// "vc" lines are refused (below).
-std::string screen_obj(std::istream& in) {
-  // [-]DIGITS at t[at]: false when absent (unless optional), zero or longer than 9 digits.
-  auto index = [](const std::string& t, size_t& at, bool optional) {
-    const size_t start = at;
-    if (at < t.size() && t[at] == '-') ++at;
-    const size_t digits = at;
-    while (at < t.size() && std::isdigit(static_cast<unsigned char>(t[at]))) ++at;
-    const size_t n = at - digits;
-    if (n == 0) return optional && at == start;
-    return n <= 9 && std::stol(t.substr(digits, n)) != 0;
-  };
-  std::string line;
-  for (size_t number = 1; std::getline(in, line); ++number) {
-    // OpenMesh reads the keyword as the first word, whatever space precedes it.
-    std::istringstream words(line);
-    std::string keyword;
-    if (!(words >> keyword)) continue;
-    // OpenMesh's non-standard "vc" line colours the last vertex it read,
-    // whether or not there is one (a null reference, found by the
-    // mesh_file fuzz target): refused.
-    if (keyword == "vc") {
-      return "OBJ line " + std::to_string(number) +
-             ": 'vc' vertex colour lines are not supported (give colours as 'v X Y Z R G B')";
-    }
-    if (keyword != "f") continue;
-    int corners = 0;
-    for (std::string t; words >> t; ++corners) {
-      if (t[0] == '#') break;  // a comment ends the line
-      size_t at = 0;
-      bool ok = index(t, at, false);
-      if (ok && at < t.size() && t[at] == '/') {
-        ++at;
-        ok = index(t, at, true);
-        if (ok && at < t.size() && t[at] == '/') ++at, ok = index(t, at, true);
-      }
-      if (!ok || at != t.size()) {
-        return "OBJ line " + std::to_string(number) + ": face corner '" + t.substr(0, 40) +
-               "' is not V, V/T, V//N or V/T/N";
-      }
-    }
-    if (corners < 3) return "OBJ line " + std::to_string(number) + ": a face needs 3 corners";
-  }
-  return "";
-}
-
-std::string screen_mesh_file(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";  // OpenMesh reports it
-  std::error_code error;
-  const uintmax_t bytes = std::filesystem::file_size(path, error);
-  if (error) return "";
-  if (ext == ".ply") return screen_ply(in, bytes);
-  if (ext == ".off") return screen_off(in, bytes);
-  if (ext == ".obj") return screen_obj(in);
-  return "";
-}
+using screen::lower_extension;
 
 // An OBJ material as its MTL file gives it (the keys we read; < 0: absent).
 struct MtlMaterial {
@@ -312,31 +49,30 @@ struct MtlMaterial {
   double ns = -1, pr = -1;
 };
 
-// The lines of a small regular file, or none: mtllib names what a hostile
-// OBJ wants (a FIFO or /dev/zero would hang or eat memory).
-std::vector<std::string> small_file_lines(const std::filesystem::path& file, uintmax_t limit) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error) || std::filesystem::file_size(file, error) > limit || error) {
-    return {};
-  }
-  std::ifstream in(file);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-// The materials of the OBJ's mtllib files (regular files of at most 16 MiB,
-// relative to the OBJ), by name.
+// The materials of the OBJ's mtllib files (relative to the OBJ, checked by
+// screen::check_obj_material_files: regular files of at most 16 MiB; those
+// that do not exist are skipped), by name.
 std::map<std::string, MtlMaterial> read_mtl_materials(const std::string& path) {
   namespace fs = std::filesystem;
-  constexpr uintmax_t kMaxMtlBytes = 16u << 20;
   std::map<std::string, MtlMaterial> out;
-  for (const std::string& line : small_file_lines(path, std::numeric_limits<uintmax_t>::max())) {
-    if (line.rfind("mtllib", 0) != 0) continue;
-    std::istringstream names(line.substr(6));
+  std::ifstream obj(path, std::ios::binary);
+  for (std::string line; std::getline(obj, line);) {
+    std::istringstream names(line);
+    std::string keyword;
+    if (!(names >> keyword) || keyword != "mtllib") continue;
     for (std::string name; names >> name;) {
+      const fs::path file = fs::path(path).parent_path() / name;
+      std::error_code error;
+      if (fs::status(file, error).type() == fs::file_type::not_found) continue;
+      std::string text;
+      try {
+        text = files::read_bounded(file.string(), screen::kMaxMtlBytes, "an MTL material file");
+      } catch (const files::FileError& e) {
+        throw std::runtime_error(path + ": mtllib " + e.what());
+      }
+      std::istringstream entries(text);
       MtlMaterial* m = nullptr;
-      for (const std::string& entry : small_file_lines(fs::path(path).parent_path() / name, kMaxMtlBytes)) {
+      for (std::string entry; std::getline(entries, entry);) {
         std::istringstream in(entry);
         std::string key;
         in >> key;
@@ -452,29 +188,63 @@ ObjGroups obj_groups(const std::string& path) {
 
 }  // namespace
 
-Texture read_texture(const std::string& file, const std::string& mesh_path) {
+namespace {
+
+// A texture's image opened by the reader of its extension, its header read
+// and checked against `max_pixels`, nothing decoded. Throws what
+// read_texture throws.
+std::unique_ptr<OIIO::ImageInput> open_texture(const std::string& file, const std::string& mesh_path, double max_pixels,
+                                               OIIO::ImageSpec& spec) {
   const std::string where = mesh_path + ": texture " + file;
   auto fail = [&](std::string why) {
     if (auto nl = why.find('\n'); nl != std::string::npos) why.resize(nl);
     throw std::runtime_error(where + ": " + (why.empty() ? "cannot read it as an image" : why));
   };
+  // A FIFO or a device (a link to /dev/zero) would hang the format
+  // libraries: OpenImageIO tries every format it knows on a file without
+  // an extension.
+  try {
+    files::require_regular_file(file, "an image");
+  } catch (const files::FileError& e) {
+    std::string why = e.what();
+    if (why.rfind(file + ": ", 0) == 0) why.erase(0, file.size() + 2);
+    fail(why);
+  }
   // Checks in front of the format libraries, which trust their headers.
-  if (std::string why = octree::check_exr_header(file, kMaxTextureTexels); !why.empty()) fail(why);
+  if (std::string why = octree::check_exr_header(file, max_pixels); !why.empty()) fail(why);
   if (std::string why = octree::check_png_chunks(file); !why.empty()) fail(why);
   // The reader of the file's extension only: OpenImageIO's open() would
   // otherwise try every format it knows on a file its extension's rejects.
   auto input = OIIO::ImageInput::create(file, false);
   if (!input) fail("unsupported image format: " + OIIO::geterror());
-  OIIO::ImageSpec spec;
   if (!input->open(file, spec)) fail(input->geterror());
   if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels < 1) fail("no pixels");
-  // From the header, before the pixels are allocated.
+  // From the header, before the pixels are allocated: at most max_pixels
+  // texels of 4 samples, twice the budget's square root a side.
   const double texels = double(spec.width) * double(spec.height);
-  if (texels > kMaxTextureTexels || texels * spec.nchannels > 4 * kMaxTextureTexels || spec.width > 16384 ||
-      spec.height > 16384) {
+  const double side = std::floor(std::sqrt(max_pixels));
+  if (texels > max_pixels || texels * spec.nchannels > 4 * max_pixels || spec.width > 2 * side ||
+      spec.height > 2 * side) {
+    const std::string limit = side * side == max_pixels
+                                  ? std::to_string(int64_t(side)) + "x" + std::to_string(int64_t(side))
+                                  : std::to_string(int64_t(max_pixels)) + " pixels ";
     fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" + std::to_string(spec.nchannels) +
-         " samples, more than the limit of 8192x8192x4 (16384 a side)");
+         " samples, more than the limit of " + limit + "x4 (" + std::to_string(int64_t(2 * side)) +
+         " a side); --max-texture-mpix raises it");
   }
+  return input;
+}
+
+}  // namespace
+
+Texture read_texture(const std::string& file, const std::string& mesh_path, double max_pixels) {
+  const std::string where = mesh_path + ": texture " + file;
+  auto fail = [&](std::string why) {
+    if (auto nl = why.find('\n'); nl != std::string::npos) why.resize(nl);
+    throw std::runtime_error(where + ": " + (why.empty() ? "cannot read it as an image" : why));
+  };
+  OIIO::ImageSpec spec;
+  auto input = open_texture(file, mesh_path, max_pixels, spec);
   std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) fail(input->geterror());
   // 8- and 16-bit images hold sRGB-encoded values; float images are linear.
@@ -538,7 +308,9 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   mesh.request_halfedge_texcoords2D();
   mesh.request_face_texture_index();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
-  if (std::string why = screen_mesh_file(path); !why.empty()) throw std::runtime_error(path + ": " + why);
+  if (std::string why = screen::screen_mesh_file(path); !why.empty()) throw std::runtime_error(path + ": " + why);
+  // OpenMesh opens the OBJ's material files itself.
+  if (lower_extension(path) == ".obj") screen::check_obj_material_files(path, options.warning);
   if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
     throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
   }
@@ -563,13 +335,31 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   OpenMesh::MPropHandleT<std::map<int, std::string>> mapping;
   bool textured = opt.check(OpenMesh::IO::Options::FaceTexCoord) && mesh.get_property_handle(mapping, "TextureMapping");
   if (textured) {
+    // Every texture's header first, against the budgets: nothing is
+    // decoded unless all of them fit.
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::vector<std::string> files;
+    double total = 0;
     for (const auto& [id, name] : mesh.property(mapping)) {
       std::string file = (dir / name).string();
       if (!std::filesystem::exists(file)) throw std::runtime_error(path + ": texture " + file + " does not exist");
-      texture_of_id[id] = int(arrays.textures.size());
-      arrays.textures.push_back(read_texture(file, path));
+      OIIO::ImageSpec spec;
+      open_texture(file, path, options.max_texture_pixels, spec);
+      total += double(spec.width) * double(spec.height);
+      if (total > options.max_total_texture_pixels) {
+        char why[160];
+        std::snprintf(why, sizeof why,
+                      ": %dx%d pixels bring the mesh's textures to %.0f Mi pixels, more than the limit of %.0f Mi "
+                      "pixels for all of them (--max-texture-mpix-total raises it)",
+                      spec.width, spec.height, std::ceil(total / 1048576.0),
+                      std::floor(options.max_total_texture_pixels / 1048576.0));
+        throw std::runtime_error(path + ": texture " + file + why);
+      }
+      texture_of_id[id] = int(files.size());
+      files.push_back(file);
     }
+    for (const std::string& file : files)
+      arrays.textures.push_back(read_texture(file, path, options.max_texture_pixels));
   }
   for (auto f : mesh.faces()) {
     glm::ivec3 t(-1);
@@ -756,6 +546,12 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto& p : out.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
   if (!(glm::length(hi - lo) > 0)) fail("the mesh has zero extent");
+  if (const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); !(extent >= kMinExtent)) {
+    char why[160];
+    std::snprintf(why, sizeof why, "the mesh's bounding box is too small: extent %.3g, below %.0e (scale it up)",
+                  extent, kMinExtent);
+    fail(why);
+  }
   out.bounds = {glm::vec3(lo), glm::vec3(hi)};
   // Topology of the kept triangles, by vertex index: an edge used once is
   // open, three or more times non-manifold.

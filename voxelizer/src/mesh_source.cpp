@@ -63,8 +63,11 @@ class MeshSource : public SurfaceSource {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
     lattice_ = lattice;
-    transform_ = openvdb::math::Transform::createLinearTransform(lattice.voxel);
-    transform_->postTranslate(openvdb::Vec3d(lattice.origin.x, lattice.origin.y, lattice.origin.z));
+    // The grids live in index space, their distances in voxels (scaled by
+    // the voxel size where read): OpenVDB refuses a transform whose voxel
+    // volume is below 3e-15 ("Non-zero scale values required"), which a
+    // 1 mm mesh at 1024^3 would be.
+    transform_ = openvdb::math::Transform::createLinearTransform(1.0);
     std::vector<openvdb::Vec3s> points;
     points.reserve(mesh_.positions.size());
     for (const auto& p : mesh_.positions) {
@@ -82,11 +85,10 @@ class MeshSource : public SurfaceSource {
 
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
     std::vector<glm::ivec3> out;
-    const float h = float(lattice_.voxel);
     const int B = int(brick_size), limit = int(lattice_.resolution / brick_size);
     for (auto leaf = distance_->tree().cbeginLeaf(); leaf; ++leaf) {
       bool surface = false;
-      for (auto v = leaf->cbeginValueOn(); v && !surface; ++v) surface = std::abs(*v) <= 0.5f * h;
+      for (auto v = leaf->cbeginValueOn(); v && !surface; ++v) surface = std::abs(*v) <= 0.5f;  // voxels
       if (!surface) continue;
       openvdb::CoordBBox box = leaf->getNodeBoundingBox();
       glm::ivec3 lo(box.min().x(), box.min().y(), box.min().z()), hi(box.max().x(), box.max().y(), box.max().z());
@@ -108,14 +110,16 @@ class MeshSource : public SurfaceSource {
     auto dist = distance_->getConstAccessor();
     auto index = index_->getConstAccessor();
     const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
-    const float background = distance_->background();
+    const float background = distance_->background();  // voxels
+    const float voxel = float(lattice_.voxel);
     const double h = lattice_.voxel;
     for (int z = lo.z; z <= hi.z; ++z)
       for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {
           openvdb::Coord ijk(x, y, z);
           FinePoint point;
-          float d = dist.getValue(ijk);
+          const float voxels = dist.getValue(ijk);
+          const float d = voxels * voxel;
           int32_t tri = index.getValue(ijk);
           glm::dvec3 p = lattice_.position({x, y, z});
           if (std::abs(d) < band && tri >= 0 && size_t(tri) < mesh_.triangles.size()) {
@@ -146,7 +150,7 @@ class MeshSource : public SurfaceSource {
             }
           } else {
             float magnitude = std::max(std::abs(d), band);
-            const bool inside = !open_ && (d < 0 || (d == -background));
+            const bool inside = !open_ && (voxels < 0 || (voxels == -background));
             point.distance = inside ? -magnitude : magnitude;
           }
           out.push_back(point);

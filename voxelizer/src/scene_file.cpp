@@ -2,6 +2,7 @@
 // given a material, merged into one TriangleMesh with a material per face.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -171,9 +172,8 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
       names.push_back(m.key());
       if (m->is_string()) {
         const fs::path file = path_of(*m, folder, where, "materials");
-        out.materials.push_back(
-            material_text(parse_json(read_small_file(file, at), at + " (" + file.string() + ")"),
-                          fs::absolute(file).parent_path(), at));
+        out.materials.push_back(material_text(parse_json(read_small_file(file, at), at + " (" + file.string() + ")"),
+                                              fs::absolute(file).parent_path(), at));
       } else {
         out.materials.push_back(material_text(*m, folder, at));
       }
@@ -187,7 +187,8 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     throw std::runtime_error(where + ": key 'objects': " + std::to_string(objects->size()) + " objects (at most " +
                              std::to_string(kMaxObjects) + ")");
   }
-  int without = -1;  // an object with no material at all (the renderer's default)
+  int without = -1;           // an object with no material at all (the renderer's default)
+  double texture_pixels = 0;  // of the meshes read so far
   for (size_t i = 0; i < objects->size(); ++i) {
     const json& o = (*objects)[i];
     const std::string at = where + ": object " + std::to_string(i);
@@ -232,7 +233,10 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     m = glm::rotate(m, glm::radians(rotate.y), glm::dvec3(0, 1, 0));
     m = glm::rotate(m, glm::radians(rotate.x), glm::dvec3(1, 0, 0));
     m = glm::scale(m, scale);
+    // The texture budget is the scene's: what earlier meshes used is spent.
+    mesh_options.max_total_texture_pixels = options.max_total_texture_pixels - texture_pixels;
     part = read_mesh(mesh_path.string(), mesh_options);
+    for (const Texture& t : part.textures) texture_pixels += double(t.width) * double(t.height);
     if (!o.contains("material")) {
       // The mesh's own materials (OBJ usemtl groups), else the scene's only one.
       if (!part.materials.empty()) {
@@ -255,9 +259,15 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
     lo = glm::min(lo, p), hi = glm::max(hi, p);
   }
   out.bounds = {glm::vec3(lo), glm::vec3(hi)};
+  if (const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); !(extent >= kMinExtent)) {
+    std::ostringstream why;
+    why << where << ": the placed meshes' bounding box is too small: extent " << extent << ", below " << kMinExtent
+        << " (scale it up)";
+    throw std::runtime_error(why.str());
+  }
   if (out.materials.size() > kMaxSceneMaterials) {
-    throw std::runtime_error(where + ": " + std::to_string(out.materials.size()) + " materials with the meshes' own (at most " +
-                             std::to_string(kMaxSceneMaterials) + ")");
+    throw std::runtime_error(where + ": " + std::to_string(out.materials.size()) +
+                             " materials with the meshes' own (at most " + std::to_string(kMaxSceneMaterials) + ")");
   }
   if (without >= 0 && !out.materials.empty()) {
     throw std::runtime_error(where + ": object " + std::to_string(without) +

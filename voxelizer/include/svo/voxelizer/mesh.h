@@ -16,6 +16,21 @@
 
 namespace svo::voxelizer {
 
+// Default texture budgets (MeshOptions): 64 Mi pixels (8192x8192) for one
+// texture, 256 Mi pixels for all of a mesh's textures (3 GiB of texels).
+inline constexpr double kDefaultMaxTexturePixels = 8192.0 * 8192.0;
+inline constexpr double kDefaultMaxTotalTexturePixels = 4 * kDefaultMaxTexturePixels;
+
+// Polygon budget of the mesh readers: at most kMaxPolygonCorners corners a
+// polygon (OpenMesh's OBJ reader is quadratic in them: 100k corners took
+// 21 s) and kMaxMeshTriangles triangles once polygons are split.
+inline constexpr int kMaxPolygonCorners = 1000;
+inline constexpr double kMaxMeshTriangles = 100e6;
+
+// A mesh whose bounding box is smaller than this on every axis is refused:
+// the octree squares voxel sizes in float (1.2e-38 is the smallest normal).
+inline constexpr double kMinExtent = 1e-12;
+
 struct MeshOptions {
   // Colour of a mesh without vertex colours (linear RGB); default 0.8 grey.
   std::optional<glm::vec3> colour;
@@ -23,9 +38,15 @@ struct MeshOptions {
   // (Pr roughness, else Ns Phong exponent), else 0.1.
   float sigma_rho = -1;
   // Receives one line per documented repair or caveat ("<path>: <what>"):
-  // degenerate triangles dropped, an open or non-manifold surface. Unset:
-  // silent.
+  // degenerate triangles dropped, an open or non-manifold surface, an
+  // mtllib file that does not exist. Unset: silent.
   std::function<void(const std::string&)> warning;
+  // Texture budgets, in pixels, checked from the images' headers before any
+  // is decoded (each texel costs 12 bytes as linear RGB, more while
+  // decoding): the largest texture, and all textures of the mesh (of a
+  // scene file: of all its meshes) together.
+  double max_texture_pixels = kDefaultMaxTexturePixels;
+  double max_total_texture_pixels = kDefaultMaxTotalTexturePixels;
 };
 
 // Coordinates beyond +-kMaxCoordinate are refused: the renderer squares
@@ -36,9 +57,11 @@ inline constexpr double kMaxCoordinate = 1e15;
 // a surface with holes to be drawn as a solid (TriangleMesh::two_sided).
 inline constexpr double kClosedShare = 0.95;
 
-// Largest texture read: 8192^2 texels of at most 4 channels, 16384 a side;
-// a larger one is refused from its header, before its pixels are allocated.
-inline constexpr double kMaxTextureTexels = 8192.0 * 8192.0;
+// Largest texture read by default (MeshOptions::max_texture_pixels):
+// 8192^2 texels of at most 4 channels, twice the budget's square root a
+// side; a larger one is refused from its header, before its pixels are
+// allocated.
+inline constexpr double kMaxTextureTexels = kDefaultMaxTexturePixels;
 
 // A texture in linear RGB (8- and 16-bit files are decoded from sRGB),
 // sampled bilinearly with wrap-around; OBJ convention: v up.
@@ -102,7 +125,8 @@ struct MeshArrays {
 // +-kMaxCoordinate; a corner index outside [0, vertex count); a texture index
 // outside [-1, texture count); a non-finite texture coordinate on a textured
 // face (those of untextured faces are ignored, set to 0); a texture
-// without texels; no triangle of non-zero area; a zero extent.
+// without texels; no triangle of non-zero area; a zero extent or one below
+// kMinExtent on every axis.
 // Repaired (counted, reported through options.warning): triangles of zero
 // area are dropped (they have no normal and bound nothing). Reported, kept:
 // open edges (used by one triangle) and non-manifold edges (three or more);
@@ -114,22 +138,31 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays arrays, cons
 // files decoded from sRGB, at most 3 channels used, one channel as grey),
 // with the reader of the file's extension only.
 // @throw std::runtime_error "<mesh_path>: texture <file>: <problem>" for a
-//        missing or unreadable file, an unsupported format, no pixels, more
-//        than kMaxTextureTexels texels or 4 kMaxTextureTexels samples (from
-//        the header), an OpenEXR header that check_exr_header refuses.
+//        missing file, one that is not regular (a FIFO, a device, a link to
+//        one: refused before any library opens it), an unreadable file, an
+//        unsupported format, no pixels, more than `max_pixels` texels or 4
+//        `max_pixels` samples or twice its square root a side (from the
+//        header), an OpenEXR header that check_exr_header refuses.
 //        Texel values are clamped to [0, 1e4], NaN read as 0.
-Texture read_texture(const std::string& file, const std::string& mesh_path);
+Texture read_texture(const std::string& file, const std::string& mesh_path,
+                     double max_pixels = kDefaultMaxTexturePixels);
 
 // Reads a mesh file (OBJ, PLY, OFF, STL through OpenMesh) with its vertex
 // colours, and for OBJ its textures (map_Kd), micro-BRDF roughness and, with
 // two or more usemtl groups, a material per group (face_material, materials:
-// GGX from Pr, Phong from Ns and Ks, else Lambert, diffuse Kd; mtllib files
-// are read only when regular and at most 16 MiB). The
-// file is untrusted: throws std::runtime_error with "<path>: <problem>" for
-// an unreadable file, an unknown format, a missing texture, and every
-// refusal of make_triangle_mesh, which it calls. What OpenMesh 9.0 would
-// trust is checked first, strictly: PLY headers, OFF headers and bodies,
-// OBJ face lines (binary OFF and OBJ "vc" lines are refused).
+// GGX from Pr, Phong from Ns and Ks, else Lambert, diffuse Kd). The file is
+// untrusted: throws std::runtime_error with "<path>: <problem>" (one line)
+// for an unreadable file or one that is not regular, an unknown format, an
+// mtllib file that is not regular or above 16 MiB (one that does not exist
+// is a warning), a missing or refused texture (read_texture), textures
+// whose headers state more than options.max_total_texture_pixels in all
+// (checked before any is decoded), and every refusal of make_triangle_mesh,
+// which it calls. What OpenMesh 9.0 would trust is checked first, strictly
+// (mesh_screen.h): PLY headers and bodies (ASCII and binary), OFF headers
+// and bodies, OBJ vertex and face lines; a face index naming no vertex, a
+// vertex OpenMesh would drop ("v nan 0 0"), a polygon of more than
+// kMaxPolygonCorners corners or more than kMaxMeshTriangles triangles are
+// refused with the line or element (binary OFF and OBJ "vc" lines too).
 TriangleMesh read_mesh(const std::string& path, const MeshOptions& options = {});
 
 // Loads a mesh as a surface source (read_mesh, then OpenVDB's level set in

@@ -1,0 +1,40 @@
+// Screening of mesh files before OpenMesh reads them (mesh_screen.cpp).
+// OpenMesh 9.0 trusts what a file says: its PLY reader writes through a
+// wild pointer on a property type it does not know, its readers reserve
+// memory for a header's counts and loop over a list's count as read, its
+// OBJ reader is quadratic in a polygon's corners, opens every mtllib file
+// it is given (a FIFO or /dev/zero hangs it) and drops faces and vertices
+// it cannot use without a word. Everything it would trust is checked here
+// first, strictly; the files are untrusted.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace svo::voxelizer::screen {
+
+// The path's extension in lower case (".obj").
+std::string lower_extension(const std::string& path);
+
+// "" when OpenMesh may be given the mesh file at `path` (a regular file),
+// else the problem, without the path ("PLY line 13: ..."). PLY: the header,
+// and the body (ASCII or binary, either byte order) walked element by
+// element: list counts from 0 to kMaxPolygonCorners, faces of 3 or more
+// corners whose indices name a vertex, the bytes there. OFF: header and
+// body. OBJ: vertex lines of three finite numbers, face corners V, V/T,
+// V//N or V/T/N whose V and T indices name a vertex and a texture
+// coordinate of the file, at most kMaxPolygonCorners corners a face. All:
+// at most kMaxMeshTriangles triangles.
+std::string screen_mesh_file(const std::string& path);
+
+// Checks the OBJ's mtllib files where OpenMesh and read_mtl_materials look
+// for them (relative to the OBJ): each must be a regular file of at most
+// kMaxMtlBytes. `warning` gets one line for each that does not exist.
+// @throw std::runtime_error "<obj>: mtllib <file>: is a FIFO, expected an
+//        MTL material file" and the like (one line).
+void check_obj_material_files(const std::string& path, const std::function<void(const std::string&)>& warning);
+
+// Largest MTL file read.
+inline constexpr unsigned long long kMaxMtlBytes = 16ull << 20;
+
+}  // namespace svo::voxelizer::screen
