@@ -119,7 +119,7 @@ std::string resolve_output(const std::string& path) {
     if ((st.st_mode & 0222) == 0) {
       throw FileError(path + ": is read-only; make it writable (chmod u+w) or remove it to replace it");
     }
-  } else if (errno != ENOENT) {
+  } else if (errno != ENOENT && errno != ENOTDIR) {  // ENOTDIR: said below
     throw FileError(path + ": " + std::strerror(errno));
   }
   std::error_code ec;

@@ -73,6 +73,29 @@ std::string cube_text(const std::string& format) {
   return s.str();
 }
 
+// The cube as a binary PLY (float x y z, uchar-counted int lists) in either
+// byte order, so that the mesh-file target starts inside the binary reader.
+std::string cube_binary_ply(bool big_endian) {
+  std::string s = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\nelement face 12\n"
+                  "property list uchar int vertex_indices\nend_header\n";
+  auto put4 = [&](const void* p) {
+    const char* b = static_cast<const char*>(p);
+    for (int i = 0; i < 4; ++i) s += b[big_endian ? 3 - i : i];  // the host is little-endian
+  };
+  for (auto& c : kCorners) {
+    for (double v : c) {
+      float f = float(v);
+      put4(&f);
+    }
+  }
+  for (auto& t : kTriangles) {
+    s += char(3);
+    for (int k = 0; k < 3; ++k) put4(&t[k]);
+  }
+  return s;
+}
+
 }  // namespace
 
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed) {
@@ -137,7 +160,9 @@ int write_seeds(const fs::path& dir) {
     const char* formats[] = {"obj", "off", "ply", "stl"};
     for (uint8_t k = 0; k < 4; ++k)
       put(d / (std::string("cube_") + formats[k]), with_prefix({k}, cube_text(formats[k])));
-    count += 4;
+    put(d / "cube_ply_binary_le", with_prefix({2}, cube_binary_ply(false)));
+    put(d / "cube_ply_binary_be", with_prefix({2}, cube_binary_ply(true)));
+    count += 6;
   }
   // Cameras, lights, paths: the first byte picks the parser.
   {

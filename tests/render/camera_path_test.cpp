@@ -259,7 +259,7 @@ TEST(CameraPathJson, ErrorsNameTheFileAndTheProblem) {
   EXPECT_EQ(parse_camera_path("{\"frames\": 100000, \"keys\": [" + k + "," + k + "]}", "p.json").frames,
             kMaxPathFrames);
   EXPECT_EQ(error_of([] { load_camera_path("/no/such/path.json"); }),
-            "/no/such/path.json: cannot open camera path file");
+            "/no/such/path.json: does not exist");
 }
 
 // Mutated path files: every outcome is a parsed path or one of the two

@@ -133,7 +133,7 @@ TEST(CameraJson, ErrorsNameTheFileAndTheProblem) {
   EXPECT_EQ(load("[1, 2, 3]"), "expected a JSON object with eye, target, up and fov");
   EXPECT_EQ(load("{\"eye\": [").rfind("not a JSON camera file: ", 0), 0u);
   EXPECT_EQ(error_of([&] { load_camera_json(dir / "missing.json"); }),
-            (dir / "missing.json") + ": cannot open camera file");
+            (dir / "missing.json") + ": does not exist");
 }
 
 TEST(ParseLight, DirectionalAndPoint) {
