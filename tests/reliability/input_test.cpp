@@ -303,13 +303,13 @@ TEST(Input, IndicesNamingNoVertexAreRefused) {
       "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
   const Case cases[] = {
       {"index.obj", tetrahedron_obj("f 1 2 999999999\n"),
-       "OBJ line 9: face corner '999999999' refers to vertex 999999999, but the file has 4"},
+       "OBJ line 9: face corner '999999999' refers to vertex 999999999, but the file has 4 vertices (counted from 1)"},
       {"negative.obj", tetrahedron_obj("f 1 2 -99\n"),
-       "OBJ line 9: face corner '-99' refers to vertex -99, but 4 precede the line"},
+       "OBJ line 9: face corner '-99' refers to vertex -99, but 4 vertices precede the line"},
       {"forward.obj", "f -1 -2 -3\n" + tetrahedron_obj(),
-       "OBJ line 1: face corner '-1' refers to vertex -1, but 0 precede the line"},
+       "OBJ line 1: face corner '-1' refers to vertex -1, but 0 vertices precede the line"},
       {"uv.obj", tetrahedron_obj("vt 0 0\nf 1/1 2/2 3/1\n"),
-       "OBJ line 10: face corner '2/2' refers to texture coordinate 2, but the file has 1"},
+       "OBJ line 10: face corner '2/2' refers to texture coordinate 2, but the file has 1 texture coordinates"},
       {"nan.obj", "v nan 0 0\n" + tetrahedron_obj("f 1 2 3\n"),
        "OBJ line 1: vertex coordinate 'nan' is not a finite number"},
       {"overflow.obj", tetrahedron_obj("v 1e39 0 0\n"), "OBJ line 9: vertex coordinate '1e39' is not a finite number"},

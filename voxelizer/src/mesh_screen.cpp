@@ -475,14 +475,15 @@ std::string screen_obj(std::istream& in) {
     if (keyword == "vt") ++seen_uvs;
     if (keyword != "f") continue;
     // A corner's index into `count` items, `seen` of them before this line.
-    auto names = [&](long index, long count, long seen, const char* what, const std::string& t) -> std::string {
+    auto names = [&](long index, long count, long seen, const char* what, const char* whats,
+                     const std::string& t) -> std::string {
       if (index > 0 && index > count) {
         return where + "face corner '" + t.substr(0, 40) + "' refers to " + what + " " + std::to_string(index) +
-               ", but the file has " + std::to_string(count) + " (" + what + "s count from 1)";
+               ", but the file has " + std::to_string(count) + " " + whats + " (counted from 1)";
       }
       if (index < 0 && -index > seen) {
         return where + "face corner '" + t.substr(0, 40) + "' refers to " + what + " " + std::to_string(index) +
-               ", but " + std::to_string(seen) + " precede the line";
+               ", but " + std::to_string(seen) + " " + whats + " precede the line";
       }
       return "";
     };
@@ -501,8 +502,9 @@ std::string screen_obj(std::istream& in) {
         if (ok && at < t.size() && t[at] == '/') ++at, ok = obj_index(t, at, true, normal);
       }
       if (!ok || at != t.size()) return where + "face corner '" + t.substr(0, 40) + "' is not V, V/T, V//N or V/T/N";
-      if (std::string why = names(v, vertices, seen_vertices, "vertex", t); !why.empty()) return why;
-      if (std::string why = names(uv, uvs, seen_uvs, "texture coordinate", t); !why.empty()) return why;
+      if (std::string why = names(v, vertices, seen_vertices, "vertex", "vertices", t); !why.empty()) return why;
+      if (std::string why = names(uv, uvs, seen_uvs, "texture coordinate", "texture coordinates", t); !why.empty())
+        return why;
     }
     if (corners < 3) return where + "a face needs 3 corners";
     if ((triangles += corners - 2) > kMaxMeshTriangles) {
