@@ -11,6 +11,12 @@ int main(int argc, char** argv) {
       "Run 'svo COMMAND --help' for the options of a command."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "svo 0.1.0");
+  app.footer(
+      "Files: inputs must be regular files (a FIFO or a device is refused before it is read). Every output is "
+      "written to a temporary name beside it (NAME.tmp-PID-N, created exclusively) and renamed over NAME when "
+      "complete, so a failure or a kill leaves the earlier file as it was; temporaries of killed runs are removed "
+      "by the next write of NAME. A symbolic link at NAME is written through to its target, which keeps its mode; "
+      "a read-only file, a directory or a device at NAME is refused before any work.");
   int exit_code = 0;
   svo::tools::add_bench_command(app, exit_code);
   svo::tools::add_compare_command(app, exit_code);

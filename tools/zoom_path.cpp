@@ -31,7 +31,7 @@ void add_path_options(CLI::App& cmd, PathOptions& o, uint32_t default_frames) {
   path->excludes(file);
   o.frames_option = cmd.add_option("--frames", o.frames, "Frames along the path (a path file's own count unless given)")
                         ->default_val(default_frames)
-                        ->check(CLI::Range(2u, 100000u))
+                        ->check(CLI::Range(2u, render::kMaxPathFrames))
                         ->group("Path");
   auto* zoom = cmd.add_option("--zoom", o.zoom, "deep-zoom: the first view's width over the last's, >= 1")
                    ->default_val(1000)

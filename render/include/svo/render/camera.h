@@ -42,7 +42,8 @@ Camera view_preset(const octree::Octree& tree, std::string_view name, float aspe
 std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 origin, glm::vec3 dir);
 
 // Checks a camera as parse_camera and load_camera_json do: finite numbers,
-// eye != target, up not parallel to the view direction, fov in (0, 180)
+// eye and target coordinates within +-1e18 and apart by more than float
+// precision, up not parallel to the view direction, fov in (0, 180)
 // degrees, aperture >= 0 and, with an aperture, focus > 0.
 // @throw std::invalid_argument "<where>: <what is wrong>".
 void validate_camera(const Camera& camera, const std::string& where);
