@@ -393,28 +393,6 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes) {
 // name no vertex, all without a word, and spends time quadratic in a face's
 // corners (100k corners: 21 s).
 
-// A number OpenMesh's `stream >> float` reads whole and finite: decimal
-// digits with an optional sign, point and exponent.
-bool is_float(const std::string& t) {
-  size_t i = 0;
-  const size_t n = t.size();
-  auto digits = [&] {
-    const size_t from = i;
-    while (i < n && std::isdigit(static_cast<unsigned char>(t[i]))) ++i;
-    return i - from;
-  };
-  if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
-  size_t mantissa = digits();
-  if (i < n && t[i] == '.') ++i, mantissa += digits();
-  if (mantissa == 0) return false;
-  if (i < n && (t[i] == 'e' || t[i] == 'E')) {
-    ++i;
-    if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
-    if (digits() == 0) return false;
-  }
-  return i == n && std::isfinite(std::strtof(t.c_str(), nullptr));
-}
-
 // [-]DIGITS at t[at] into `value` (0 when absent): false when absent
 // (unless optional), zero or longer than 9 digits.
 bool obj_index(const std::string& t, size_t& at, bool optional, long& value) {
@@ -431,7 +409,7 @@ bool obj_index(const std::string& t, size_t& at, bool optional, long& value) {
   return value != 0;
 }
 
-// Vertex lines: three finite numbers. Face lines: 3 to kMaxPolygonCorners
+// Vertex lines: three numbers OpenMesh reads. Face lines: 3 to kMaxPolygonCorners
 // corners V, V/T, V//N or V/T/N with V and T non-zero integers naming a
 // vertex and a texture coordinate of the file (negative: counted back from
 // the line). "vc" lines are refused (below).
@@ -443,17 +421,24 @@ std::string screen_obj(std::istream& in) {
     std::istringstream words(line);
     std::string keyword;
     if (!(words >> keyword) || (keyword != "v" && keyword != "vt")) continue;
-    const size_t needed = keyword == "v" ? 3 : 2;
-    size_t k = 0;
-    for (std::string t; k < needed && words >> t; ++k) {
-      if (!is_float(t)) {
-        return "OBJ line " + std::to_string(number) + ": " + (keyword == "v" ? "vertex" : "texture") + " coordinate '" +
-               t.substr(0, 40) + "' is not a finite number";
+    // Read as OpenMesh reads them (`stream >> float`, which stops at a
+    // character that cannot continue a number: "0.5/1" reads as 0.5). It
+    // drops a vertex whose coordinates fail ("nan", "inf", 1e39), and
+    // every face naming a later vertex then names the wrong one.
+    const int needed = keyword == "v" ? 3 : 2;
+    for (int k = 0; k < needed; ++k) {
+      const std::streampos at = words.tellg();
+      float value = 0;
+      if (words >> value) continue;
+      words.clear();
+      words.seekg(at);
+      std::string t;
+      if (!(words >> t)) {
+        return "OBJ line " + std::to_string(number) + ": " +
+               (keyword == "v" ? "a vertex needs 3 coordinates" : "a texture coordinate needs 2 numbers");
       }
-    }
-    if (k < needed) {
-      return "OBJ line " + std::to_string(number) + ": " +
-             (keyword == "v" ? "a vertex needs 3 coordinates" : "a texture coordinate needs 2 numbers");
+      return "OBJ line " + std::to_string(number) + ": " + (keyword == "v" ? "vertex" : "texture") + " coordinate '" +
+             t.substr(0, 40) + "' is not a finite number";
     }
     ++(keyword == "v" ? vertices : uvs);
   }
@@ -503,7 +488,9 @@ std::string screen_obj(std::istream& in) {
       }
       if (!ok || at != t.size()) return where + "face corner '" + t.substr(0, 40) + "' is not V, V/T, V//N or V/T/N";
       if (std::string why = names(v, vertices, seen_vertices, "vertex", "vertices", t); !why.empty()) return why;
-      if (std::string why = names(uv, uvs, seen_uvs, "texture coordinate", "texture coordinates", t); !why.empty())
+      // (Without "vt" lines OpenMesh reads no texture coordinates at all.)
+      if (std::string why = names(uvs ? uv : 0, uvs, seen_uvs, "texture coordinate", "texture coordinates", t);
+          !why.empty())
         return why;
     }
     if (corners < 3) return where + "a face needs 3 corners";

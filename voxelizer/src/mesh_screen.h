@@ -21,7 +21,8 @@ std::string lower_extension(const std::string& path);
 // and the body (ASCII or binary, either byte order) walked element by
 // element: list counts from 0 to kMaxPolygonCorners, faces of 3 or more
 // corners whose indices name a vertex, the bytes there. OFF: header and
-// body. OBJ: vertex lines of three finite numbers, face corners V, V/T,
+// body. OBJ: vertex lines whose three coordinates OpenMesh reads (not
+// "nan", "inf", 1e39), face corners V, V/T,
 // V//N or V/T/N whose V and T indices name a vertex and a texture
 // coordinate of the file, at most kMaxPolygonCorners corners a face. All:
 // at most kMaxMeshTriangles triangles.
