@@ -36,8 +36,6 @@ struct ReferenceArgs {
   uint32_t luminaire_quadrature = 1;
   uint32_t spp = 64;
   uint64_t seed = 1;
-  double max_texture_mpix = voxelizer::kDefaultMaxTexturePixels / 1048576.0;
-  double max_texture_mpix_total = voxelizer::kDefaultMaxTotalTexturePixels / 1048576.0;
   bool json = false;
 };
 
@@ -91,18 +89,6 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1u, 8u))
       ->group("Luminaires");
 
-  cmd->add_option("--max-texture-mpix", a->max_texture_mpix,
-                  "Largest texture a mesh may name, Mi pixels (2^20), from its header before it is decoded; twice "
-                  "its square root a side")
-      ->default_val(a->max_texture_mpix)
-      ->check(CLI::Range(1.0, 4096.0))
-      ->group("Limits");
-  cmd->add_option("--max-texture-mpix-total", a->max_texture_mpix_total,
-                  "All textures of the mesh (or scene file) together, Mi pixels; 12 bytes each once read")
-      ->default_val(a->max_texture_mpix_total)
-      ->check(CLI::Range(1.0, 65536.0))
-      ->group("Limits");
-
   cmd->callback([a, &exit_code] {
     // --- Everything that can be checked before the source is read.
     check_source_options(a->source, "reference");
@@ -127,12 +113,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       if (tree && a->source.roughness < 0) scene->set_sigma_rho2(tree->sigma_rho2);
       geometry = reference::scene_geometry(*scene);
     } else {
-      voxelizer::MeshOptions options = mesh_options(a->source);
-      options.max_texture_pixels = a->max_texture_mpix * 1048576.0;
-      options.max_total_texture_pixels = a->max_texture_mpix_total * 1048576.0;
-      voxelizer::TriangleMesh mesh = a->source.scene_file.empty()
-                                         ? voxelizer::read_mesh(a->source.input, options)
-                                         : voxelizer::read_scene_file(a->source.scene_file, options);
+      voxelizer::TriangleMesh mesh = read_source_mesh(a->source);
       if (tree && a->source.roughness < 0) mesh.sigma_rho2 = tree->sigma_rho2;
       geometry = reference::mesh_geometry(std::move(mesh));
     }

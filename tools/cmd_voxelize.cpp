@@ -28,8 +28,6 @@ struct VoxelizeArgs {
   uint32_t resolution = 256;
   uint32_t brick = 8;
   double max_memory_mb = 0;
-  double max_texture_mpix = voxelizer::kDefaultMaxTexturePixels / 1048576.0;
-  double max_texture_mpix_total = voxelizer::kDefaultMaxTotalTexturePixels / 1048576.0;
   bool json = false;
 };
 
@@ -75,17 +73,6 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                   "Refuse to start above this estimated memory, MiB (default: available memory)")
       ->check(CLI::PositiveNumber)
       ->group("Limits");
-  cmd->add_option("--max-texture-mpix", a->max_texture_mpix,
-                  "Largest texture a mesh may name, Mi pixels (2^20), from its header before it is decoded; twice "
-                  "its square root a side")
-      ->default_val(a->max_texture_mpix)
-      ->check(CLI::Range(1.0, 4096.0))
-      ->group("Limits");
-  cmd->add_option("--max-texture-mpix-total", a->max_texture_mpix_total,
-                  "All textures of the mesh (or scene file) together, Mi pixels; 12 bytes each once read")
-      ->default_val(a->max_texture_mpix_total)
-      ->check(CLI::Range(1.0, 65536.0))
-      ->group("Limits");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
   cmd->callback([a, &exit_code] {
@@ -99,13 +86,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       // open surface, whose inside the level set guesses): one line each on
       // stderr, the run goes on. (svo reference ray traces the triangles
       // themselves: neither matters there.)
-      voxelizer::MeshOptions options = mesh_options(a->source);
-      options.warning = [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; };
-      options.max_texture_pixels = a->max_texture_mpix * 1048576.0;
-      options.max_total_texture_pixels = a->max_texture_mpix_total * 1048576.0;
-      source = voxelizer::mesh_source(a->source.scene_file.empty()
-                                          ? voxelizer::read_mesh(a->source.input, options)
-                                          : voxelizer::read_scene_file(a->source.scene_file, options));
+      source = voxelizer::mesh_source(
+          read_source_mesh(a->source, [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; }));
     }
     // The source's own materials are checked now, not when rendering.
     render::parse_scene_materials(source->materials(), what);

@@ -42,6 +42,17 @@ void add_source_options(CLI::App& cmd, SourceOptions& o) {
       ->default_val(0.02f)
       ->group("Detail");
   cmd.add_option("--detail-seed", o.detail_seed, "Seed of the detail noise")->default_val(1)->group("Detail");
+  cmd.add_option("--max-texture-mpix", o.max_texture_mpix,
+                 "Largest texture a mesh may name, Mi pixels (2^20; 64 is 8192 x 8192), checked from its header "
+                 "before it is decoded")
+      ->default_val(o.max_texture_mpix)
+      ->check(CLI::Range(1.0, 4096.0))
+      ->group("Limits");
+  cmd.add_option("--max-texture-mpix-total", o.max_texture_mpix_total,
+                 "All textures of the mesh (or scene file) together, Mi pixels; 12 bytes each once read")
+      ->default_val(o.max_texture_mpix_total)
+      ->check(CLI::Range(1.0, 65536.0))
+      ->group("Limits");
 }
 
 void check_source_options(const SourceOptions& o, const std::string& command) {
@@ -49,7 +60,8 @@ void check_source_options(const SourceOptions& o, const std::string& command) {
     throw std::invalid_argument(command + ": give a mesh file, --scene NAME or --scene-file SCENE.json");
   }
   if (o.detail_octaves > 0 && o.scene.empty()) {
-    throw std::invalid_argument(command + ": --detail-octaves needs --scene (detail octaves displace the built-in scenes)");
+    throw std::invalid_argument(command +
+                                ": --detail-octaves needs --scene (detail octaves displace the built-in scenes)");
   }
   if (o.detail_octaves > 0 && !(o.detail_amplitude <= o.detail_wavelength)) {
     throw std::invalid_argument(command + ": --detail-amplitude " + std::to_string(o.detail_amplitude) +
@@ -64,7 +76,8 @@ std::string source_name(const SourceOptions& o) {
 voxelizer::TriangleMesh read_source_mesh(const SourceOptions& o, std::function<void(const std::string&)> warning) {
   voxelizer::MeshOptions options = mesh_options(o);
   options.warning = std::move(warning);
-  return o.scene_file.empty() ? voxelizer::read_mesh(o.input, options) : voxelizer::read_scene_file(o.scene_file, options);
+  return o.scene_file.empty() ? voxelizer::read_mesh(o.input, options)
+                              : voxelizer::read_scene_file(o.scene_file, options);
 }
 
 std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves) {
@@ -80,6 +93,8 @@ voxelizer::MeshOptions mesh_options(const SourceOptions& o) {
   voxelizer::MeshOptions options;
   if (o.colour.size() == 3) options.colour = glm::vec3(o.colour[0], o.colour[1], o.colour[2]);
   if (o.roughness >= 0) options.sigma_rho = o.roughness;
+  options.max_texture_pixels = o.max_texture_mpix * 1048576.0;
+  options.max_total_texture_pixels = o.max_texture_mpix_total * 1048576.0;
   return options;
 }
 

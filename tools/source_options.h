@@ -26,11 +26,15 @@ struct SourceOptions {
   float detail_amplitude = 0.002f;
   float detail_wavelength = 0.02f;
   uint32_t detail_seed = 1;
+  // Texture budgets, Mi pixels (--max-texture-mpix, --max-texture-mpix-total).
+  double max_texture_mpix = voxelizer::kDefaultMaxTexturePixels / 1048576.0;
+  double max_texture_mpix_total = voxelizer::kDefaultMaxTotalTexturePixels / 1048576.0;
 };
 
 // The positional mesh file and --scene (group Input); --colour and
 // --roughness (group Appearance); --detail-octaves, --detail-amplitude,
-// --detail-wavelength, --detail-seed (group Detail).
+// --detail-wavelength, --detail-seed (group Detail); --max-texture-mpix,
+// --max-texture-mpix-total (group Limits).
 void add_source_options(CLI::App& cmd, SourceOptions& o);
 
 // Throws std::invalid_argument "<command>: give a mesh file, --scene NAME or
@@ -47,7 +51,7 @@ std::string source_name(const SourceOptions& o);
 // can draw, the rest folded into the statistics (voxelizer::DetailedScene).
 std::unique_ptr<voxelizer::AnalyticScene> make_scene_source(const SourceOptions& o, bool all_octaves = true);
 
-// --colour and --roughness as mesh options.
+// --colour, --roughness and the texture budgets as mesh options.
 voxelizer::MeshOptions mesh_options(const SourceOptions& o);
 
 // The mesh file or the scene file's merged meshes (voxelizer::read_mesh,
