@@ -146,25 +146,19 @@ size_t remove_stale_temporaries(const fs::path& dir, const std::string& prefix) 
 OutputFile::OutputFile(const std::string& path) : path_(path), target_(resolve_output(path)) {
   const fs::path target(target_);
   remove_stale_temporaries(target.parent_path(), target.filename().string() + ".tmp-");
-  mode_t mode = 0666;
   struct stat st {};
   const bool existing = ::stat(target_.c_str(), &st) == 0;
-  if (existing) mode = st.st_mode & 07777;
   static std::atomic<unsigned> counter{0};
-  // A name taken (by a planted link, say) is skipped, never opened.
+  // A name taken (by a planted link, say) is skipped, never opened. A new
+  // file gets 0666 less the umask, as any created file.
   for (int attempt = 0; attempt < 64 && fd_ < 0; ++attempt) {
     temporary_ = target_ + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd_ < 0 && errno != EEXIST) fail("creating " + temporary_, errno);
   }
   if (fd_ < 0) fail("creating " + temporary_, EEXIST);
-  // The final mode: an existing file's, else 0666 less the umask.
-  if (!existing) {
-    mode_t mask = ::umask(0);
-    ::umask(mask);
-    mode = 0666 & ~mask;
-  }
-  if (::fchmod(fd_, mode) != 0) {
+  // The replaced file's mode is kept.
+  if (existing && ::fchmod(fd_, st.st_mode & 07777) != 0) {
     int err = errno;
     ::close(std::exchange(fd_, -1));
     ::unlink(temporary_.c_str());
