@@ -95,11 +95,13 @@ bool is_frame_name(const std::string& name) {
 }
 
 // Moves the finished run's files from `stage` into `dir`, the earlier run's
-// frames removed first, so that DIR holds one run's set.
+// files that this run did not write (extra frames, a strip) removed first,
+// so that DIR holds one run's set.
 void publish(const fs::path& stage, const fs::path& dir) {
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
-    if (is_frame_name(name) && !fs::exists(stage / name)) fs::remove(e.path());
+    const bool ours = is_frame_name(name) || name == "strip.png" || name == "frames.csv" || name == "path.json";
+    if (ours && !fs::exists(stage / name)) fs::remove(e.path());
   }
   for (const auto& e : fs::directory_iterator(stage)) fs::rename(e.path(), dir / e.path().filename());
 }
@@ -114,7 +116,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       "Render a camera path through a .svo file: the deep zoom from the whole-object view to a surface point "
       "(--path deep-zoom, default) or a JSON path of keyframes (--path-file). Writes DIR/frame_NNNN.png, "
       "DIR/frames.csv (per frame: distance, view width, GPU ms, us per pixel and per covered pixel, levels), "
-      "DIR/path.json (the path used, for --path-file) and DIR/strip.png");
+      "DIR/path.json (the path used, for --path-file) and DIR/strip.png. The run's files replace the earlier "
+      "run's together at the end (a killed or failed run leaves them as they were)");
   auto a = std::make_shared<FlythroughArgs>();
   cmd->add_option("FILE", a->input, "The .svo file to fly through")->required()->group("Input");
   cmd->add_option("-o,--out", a->out, "Output directory (created when missing)")->required()->group("Output");

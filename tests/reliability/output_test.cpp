@@ -263,6 +263,12 @@ TEST(Output, FlythroughReplacesItsSetTogether) {
   ASSERT_EQ(run_svo(fly(3)).status, 0);
   EXPECT_EQ(entries(out, ""), (std::vector<std::string>{"frame_0000.png", "frame_0001.png", "frame_0002.png",
                                                         "frames.csv", "path.json", "strip.png"}));
+  // A run without a strip does not leave the earlier run's.
+  auto no_strip = fly(2);
+  no_strip.insert(no_strip.end(), {"--strip", "0"});
+  ASSERT_EQ(run_svo(no_strip).status, 0);
+  EXPECT_EQ(entries(out, ""),
+            (std::vector<std::string>{"frame_0000.png", "frame_0001.png", "frames.csv", "path.json"}));
 }
 
 }  // namespace
