@@ -5,15 +5,11 @@
 #include <xxhash.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
-#include <utility>
 
 #include "svo/octree/files.h"
 #include "svo/octree/svo_file.h"
