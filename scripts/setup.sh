@@ -24,6 +24,7 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev    # mesh -> narrow-band signed distance (voxelizer only)
   zlib1g-dev                               # needed by FindOpenVDB.cmake
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
+  libtinygltf-dev                          # glTF 2.0 input (.gltf, .glb); images decoded by OpenImageIO
   libopenimageio-dev                       # textures; PNG and EXR output
   libtbb-dev                               # parallel loops
   libfftw3-dev                             # windowed-FFT reference bandwidth (render/bandwidth.h)

@@ -1,4 +1,5 @@
-// svo voxelize: a mesh or a built-in scene to a pre-filtered .svo octree.
+// svo voxelize: a mesh, a .vdb level set or a built-in scene to a
+// pre-filtered .svo octree.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -16,6 +17,7 @@
 #include "svo/octree/svo_file.h"
 #include "svo/render/shading.h"
 #include "svo/voxelizer/build.h"
+#include "svo/voxelizer/vdb.h"
 
 namespace svo::tools {
 
@@ -27,6 +29,7 @@ struct VoxelizeArgs {
   std::string material;  // a material JSON the octree carries
   uint32_t resolution = 256;
   uint32_t brick = 8;
+  std::string grid;  // --grid: the level set of a .vdb input
   double max_memory_mb = 0;
   bool json = false;
 };
@@ -45,11 +48,15 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<VoxelizeArgs>();
   add_source_options(*cmd, a->source);
   cmd->get_option("input")->description(
-      "Mesh file: OBJ, PLY, OFF or STL. A mesh with holes is drawn as a solid when they are small (the "
-      "generalized winding number is within 0.05 of 0 and 1 on 95% of its area), else two-sided, a thin shell "
-      "around every triangle, as svo reference shows it; a warning says which. Refused: polygons of more than 1000 "
-      "corners, more than 100 million triangles, face indices that name no vertex, coordinates that are not finite "
-      "or beyond 1e15, a bounding box below 1e-12, an mtllib file or texture that is not a regular file");
+      "Mesh file: OBJ, PLY, OFF, STL or glTF 2.0 (.gltf, .glb: triangles of the default scene placed by their "
+      "nodes, baseColorFactor, a PNG or JPEG baseColorTexture on TEXCOORD_0, COLOR_0; not Draco or sparse "
+      "accessors), or an OpenVDB level set (.vdb: a float grid of class level set, --grid NAME when there are "
+      "several; its narrow band is resampled to the lattice). A mesh with holes is drawn as a solid when they are "
+      "small (the generalized winding number is within 0.05 of 0 and 1 on 95% of its area), else two-sided, a "
+      "thin shell around every triangle, as svo reference shows it; a warning says which. Refused: polygons of "
+      "more than 1000 corners, more than 100 million triangles, face indices that name no vertex, coordinates that "
+      "are not finite or beyond 1e15, a bounding box below 1e-12, an mtllib file or texture that is not a regular "
+      "file");
   cmd->add_option("-o,--output", a->output,
                   "Output .svo file (written to a temporary name, then renamed; a symbolic link is written through, a "
                   "read-only file refused)")
@@ -61,6 +68,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                   "materials of their own (--scene material-spheres) carry theirs")
       ->check(CLI::ExistingFile)
       ->group("Output");
+  cmd->add_option("--grid", a->grid, "The grid of a .vdb input, by name (default: its only float level set)")
+      ->group("Input");
   cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis: a power of two")
       ->default_val(256)
       ->check(CLI::Range(16u, 4096u))
@@ -79,8 +88,18 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     check_source_options(a->source, "voxelize");
     std::unique_ptr<voxelizer::SurfaceSource> source;
     const std::string what = source_name(a->source);
+    if (!a->grid.empty() && !voxelizer::is_vdb_path(a->source.input)) {
+      throw std::invalid_argument("voxelize: --grid names a grid of a .vdb input (see svo voxelize --help)");
+    }
     if (!a->source.scene.empty()) {
       source = make_scene_source(a->source, /*all_octaves=*/false);
+    } else if (voxelizer::is_vdb_path(a->source.input)) {
+      voxelizer::VdbOptions vdb;
+      vdb.grid = a->grid;
+      if (a->source.colour.size() == 3)
+        vdb.colour = glm::vec3(a->source.colour[0], a->source.colour[1], a->source.colour[2]);
+      vdb.sigma_rho = a->source.roughness;
+      source = voxelizer::load_vdb(a->source.input, vdb);
     } else {
       // The mesh's repairs and caveats (degenerate triangles dropped, an
       // open surface, whose inside the level set guesses): one line each on

@@ -25,6 +25,8 @@ void add_bench_luminaire_command(CLI::App& bench, int& exit_code);
 void add_compare_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
 void add_devices_command(CLI::App& app, int& exit_code);
+// svo export (cmd_export.cpp): an octree's finest level as a .vdb level set.
+void add_export_command(CLI::App& app, int& exit_code);
 void add_flythrough_command(CLI::App& app, int& exit_code);
 void add_info_command(CLI::App& app, int& exit_code);
 // svo luminaire make|info|sheet|import (cmd_luminaire.cpp): light-field luminaires.

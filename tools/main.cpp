@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   svo::tools::add_compare_command(app, exit_code);
   svo::tools::add_demo_command(app, exit_code);
   svo::tools::add_devices_command(app, exit_code);
+  svo::tools::add_export_command(app, exit_code);
   svo::tools::add_flythrough_command(app, exit_code);
   svo::tools::add_info_command(app, exit_code);
   svo::tools::add_luminaire_command(app, exit_code);

@@ -5,7 +5,8 @@
 namespace svo::tools {
 
 void add_source_options(CLI::App& cmd, SourceOptions& o) {
-  auto* input = cmd.add_option("input", o.input, "Mesh file: OBJ, PLY, OFF or STL")->group("Input");
+  auto* input =
+      cmd.add_option("input", o.input, "Mesh file: OBJ, PLY, OFF, STL or glTF 2.0 (.gltf, .glb)")->group("Input");
   auto* scene = cmd.add_option("--scene", o.scene,
                                "Built-in procedural scene instead of a mesh: bumpy-sphere, heightfield, "
                                "grooved-cylinder, material-spheres (five materials)")

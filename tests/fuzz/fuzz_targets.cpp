@@ -18,6 +18,7 @@
 #include "svo/render/merl.h"
 #include "svo/render/shading.h"
 #include "svo/voxelizer/mesh.h"
+#include "svo/voxelizer/vdb.h"
 #include "svo_format.h"
 
 namespace svo::math {
@@ -160,6 +161,40 @@ int mesh_file(const uint8_t* data, size_t size) {
       }
       (void)mesh.colour(f, glm::dvec3(1.0 / 3));
     }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+int gltf(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  TempFile file(data + 1, size - 1, data[0] % 2 ? ".glb" : ".gltf");
+  try {
+    voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file.path);
+    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size())
+          broken("corner out of range");
+      }
+      (void)mesh.colour(f, glm::dvec3(1.0 / 3));
+    }
+    return 1;
+  } catch (const std::runtime_error& e) {
+    return refused(e);
+  }
+}
+
+int vdb(const uint8_t* data, size_t size) {
+  TempFile file(data, size, ".vdb");
+  try {
+    auto source = voxelizer::load_vdb(file.path);
+    const voxelizer::Box b = source->bounds();
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(b.lo[k]) || !std::isfinite(b.hi[k]) || !(b.lo[k] <= b.hi[k]))
+        broken("bounds not finite or ordered");
+    }
+    if (!(source->surface_area() > 0)) broken("no surface area");
     return 1;
   } catch (const std::runtime_error& e) {
     return refused(e);
@@ -392,8 +427,8 @@ int tm25(const uint8_t* data, size_t size) {
 }
 
 std::vector<std::string> target_names() {
-  return {"svo_load",    "mesh_arrays", "mesh_file",  "camera",    "texture", "merl",
-          "environment", "material",    "scene_file", "luminaire", "tm25"};
+  return {"svo_load", "mesh_arrays", "mesh_file", "camera", "texture", "merl", "environment",
+          "material", "scene_file",  "luminaire", "tm25",   "gltf",    "vdb"};
 }
 
 int run_target(const std::string& name, const uint8_t* data, size_t size) {
@@ -408,6 +443,8 @@ int run_target(const std::string& name, const uint8_t* data, size_t size) {
   if (name == "scene_file") return scene_file(data, size);
   if (name == "luminaire") return luminaire(data, size);
   if (name == "tm25") return tm25(data, size);
+  if (name == "gltf") return gltf(data, size);
+  if (name == "vdb") return vdb(data, size);
   throw std::invalid_argument("no fuzz target " + name);
 }
 

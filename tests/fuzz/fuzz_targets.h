@@ -73,6 +73,16 @@ int luminaire(const uint8_t* data, size_t size);
 // validate_light_field.
 int tm25(const uint8_t* data, size_t size);
 
+// read_mesh on the bytes written to a temporary file; the first byte picks
+// the extension (even: .gltf, odd: .glb): the GLB and JSON screens,
+// tinygltf, then our accessor checks and read_texture (issue 21).
+int gltf(const uint8_t* data, size_t size);
+
+// load_vdb on the bytes written to a temporary .vdb file (OpenVDB's reader
+// behind our checks); an accepted source must have finite, ordered bounds
+// and a positive surface area (issue 21).
+int vdb(const uint8_t* data, size_t size);
+
 // The layout mesh_arrays decodes: u32 vertex count, u32 triangle count,
 // u8 flags (1 colours, 2 uv, 4 texture indices, 8 one 2x2 texture), then
 // positions (3 f64 each), colours (3 f32), triangles (3 i32), uv (6 f32),
@@ -85,7 +95,7 @@ struct MeshSeed {
 std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed);
 
 // Writes a seed corpus per target into dir/<target>/ (targets: svo_load,
-// mesh_arrays, mesh_file, camera, texture, merl, environment, material, scene_file, luminaire, tm25), made by the
+// mesh_arrays, mesh_file, camera, texture, merl, environment, material, scene_file, luminaire, tm25, gltf, vdb), made by the
 // library's own writers; seeds named refused-* are inputs the loader must refuse. Returns
 // the number of files written.
 int write_seeds(const std::filesystem::path& dir);

@@ -16,6 +16,9 @@
 #include "svo/render/camera_path.h"
 #include "svo/render/image_io.h"
 #include "svo/render/luminaire.h"
+#include "svo/voxelizer/build.h"
+#include "svo/voxelizer/scenes.h"
+#include "svo/voxelizer/vdb.h"
 
 namespace svo::fuzz {
 
@@ -118,6 +121,85 @@ std::vector<uint8_t> mesh_arrays_encode(const MeshSeed& seed) {
   if (seed.texture)
     for (uint32_t i = 0; i < m; ++i) add(int32_t(i % 2 ? 0 : -1));
   return out;
+}
+
+std::string base64(const std::string& in) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < in.size(); i += 3) {
+    uint32_t v = uint32_t(uint8_t(in[i])) << 16;
+    if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
+    if (i + 2 < in.size()) v |= uint8_t(in[i + 2]);
+    out += k[(v >> 18) & 63], out += k[(v >> 12) & 63];
+    out += i + 1 < in.size() ? k[(v >> 6) & 63] : '=';
+    out += i + 2 < in.size() ? k[v & 63] : '=';
+  }
+  return out;
+}
+
+template <typename T>
+void append(std::string& bin, const std::vector<T>& v) {
+  bin.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+// A unit cube: 8 positions (float), 8 colours (normalized bytes), 36
+// indices (bytes), one buffer as a data URI.
+std::string gltf_cube() {
+  std::vector<float> pos;
+  std::vector<uint8_t> col;
+  for (int i = 0; i < 8; ++i) {
+    pos.insert(pos.end(), {float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)});
+    col.insert(col.end(), {uint8_t(255 * (i & 1)), 128, 200, 255});
+  }
+  const std::vector<uint8_t> idx = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                                    2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  std::string bin;
+  append(bin, pos), append(bin, col), append(bin, idx);
+  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+"nodes": [{"mesh": 0, "translation": [1, 2, 3], "rotation": [0, 0.7071, 0, 0.7071]}],
+"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "indices": 2, "material": 0}]}],
+"materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1]}}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3"},
+ {"bufferView": 1, "componentType": 5121, "normalized": true, "count": 8, "type": "VEC4"},
+ {"bufferView": 2, "componentType": 5121, "count": 36, "type": "SCALAR"}],
+"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+ {"buffer": 0, "byteOffset": 128, "byteLength": 36}],
+"buffers": [{"byteLength": 164, "uri": "data:application/octet-stream;base64,)" +
+         base64(bin) + "\"}]}";
+}
+
+// A quad with a 2x2 PNG baseColorTexture in the GLB's buffer.
+std::string gltf_textured_quad(const fs::path& dir) {
+  const fs::path file = dir / "texture.png";
+  const unsigned char px[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  auto out = OIIO::ImageOutput::create(file.string());
+  OIIO::ImageSpec spec(2, 2, 3, OIIO::TypeDesc::UINT8);
+  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, px) || !out->close()) {
+    throw std::runtime_error(file.string() + ": cannot write seed image");
+  }
+  const std::vector<uint8_t> png = file_bytes(file);
+  fs::remove(file);
+  std::string bin;
+  append(bin, std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});  // 48 bytes
+  append(bin, std::vector<float>{0, 0, 1, 0, 1, 1, 0, 1});              // 32
+  append(bin, std::vector<uint16_t>{0, 1, 2, 0, 2, 3});                 // 12
+  append(bin, png);
+  while (bin.size() % 4) bin += '\0';
+  std::string json =
+      R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "scale": [2, 2, 2]}],
+"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+"materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 1, 1], "baseColorTexture": {"index": 0}}}],
+"textures": [{"source": 0}], "images": [{"bufferView": 3, "mimeType": "image/png"}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+ {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+ {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+ {"buffer": 0, "byteOffset": 80, "byteLength": 12}, {"buffer": 0, "byteOffset": 92, "byteLength": )" +
+      std::to_string(png.size()) + "}], \"buffers\": [{\"byteLength\": " + std::to_string(bin.size()) + "}]}";
+  while (json.size() % 4) json += ' ';
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  return "glTF" + u32(2) + u32(uint32_t(28 + json.size() + bin.size())) + u32(uint32_t(json.size())) + "JSON" + json +
+         u32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
 }
 
 int write_seeds(const fs::path& dir) {
@@ -363,6 +445,25 @@ int write_seeds(const fs::path& dir) {
     nan.rays[7].x = std::nanf("");
     put(d / "refused-nan", testing::encode_tm25(nan));
     count += 5;
+  }
+  // glTF (issue 21): the first byte picks .gltf (0) or .glb (1). A closed
+  // cube with vertex colours, its buffer a data URI; a textured quad in a
+  // GLB with its PNG in the buffer.
+  {
+    fs::path d = target("gltf");
+    put(d / "cube_gltf", with_prefix({0}, gltf_cube()));
+    put(d / "quad_glb", with_prefix({1}, gltf_textured_quad(d)));
+    count += 2;
+  }
+  // OpenVDB level sets (issue 21): the bumpy sphere voxelized at 16^3 and
+  // exported.
+  {
+    fs::path d = target("vdb");
+    auto scene = voxelizer::make_scene("bumpy-sphere");
+    voxelizer::VoxelizeOptions options;
+    options.resolution = 16;
+    voxelizer::export_vdb(voxelizer::voxelize(*scene, options), (d / "sphere").string());
+    count += 1;
   }
   return count;
 }

@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include "common/shared_math.h"
+#include "gltf_read.h"
 #include "mesh_screen.h"
 #include "svo/octree/files.h"
 #include "svo/octree/image_header.h"
@@ -237,6 +238,12 @@ std::unique_ptr<OIIO::ImageInput> open_texture(const std::string& file, const st
 
 }  // namespace
 
+double texture_header_pixels(const std::string& file, const std::string& mesh_path, double max_pixels) {
+  OIIO::ImageSpec spec;
+  open_texture(file, mesh_path, max_pixels, spec);
+  return double(spec.width) * double(spec.height);
+}
+
 Texture read_texture(const std::string& file, const std::string& mesh_path, double max_pixels) {
   const std::string where = mesh_path + ": texture " + file;
   auto fail = [&](std::string why) {
@@ -298,6 +305,10 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   if (std::filesystem::is_directory(path)) throw std::runtime_error(path + ": is a directory, not a mesh");
   // A FIFO or a device would hang the reader or never end.
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": not a regular file");
+  if (gltf::is_gltf_path(path)) return make_triangle_mesh(path, gltf::read_gltf(path, options), options);
+  if (lower_extension(path) == ".vdb") {
+    throw std::runtime_error(path + ": an OpenVDB level set is read by svo voxelize only, not as a mesh");
+  }
   // OpenMesh reports problems on its own streams, several lines each: we
   // report one line ourselves.
   omerr().disable();

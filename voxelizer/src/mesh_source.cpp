@@ -1,4 +1,4 @@
-// The only translation unit that includes OpenVDB (slow to compile).
+// One of the two translation units that include OpenVDB (slow to compile; vdb_io.cpp is the other).
 // The mesh itself is read by mesh_read.cpp.
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>

@@ -1,0 +1,320 @@
+// OpenVDB level sets in (a surface source) and out (an octree's finest
+// level). One of the two translation units that include OpenVDB.
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/GridTransformer.h>
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tools/SignedFloodFill.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <mutex>
+#include <sstream>
+#include <tuple>
+
+#include "mesh_screen.h"
+#include "svo/octree/files.h"
+#include "svo/voxelizer/mesh.h"
+#include "svo/voxelizer/vdb.h"
+
+namespace svo::voxelizer {
+
+namespace {
+
+void initialize_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+std::string one_line(std::string why) {
+  if (auto nl = why.find('\n'); nl != std::string::npos) why.resize(nl);
+  return why;
+}
+
+// "name (float level set)" and the like, for messages.
+std::string describe(const openvdb::GridBase& g) {
+  std::string cls = g.getGridClass() == openvdb::GRID_LEVEL_SET    ? "level set"
+                    : g.getGridClass() == openvdb::GRID_FOG_VOLUME ? "fog volume"
+                    : g.getGridClass() == openvdb::GRID_STAGGERED  ? "staggered"
+                                                                   : "unknown class";
+  return "\"" + g.getName() + "\" (" + g.valueType() + " " + cls + ")";
+}
+
+class VdbSource : public SurfaceSource {
+ public:
+  VdbSource(openvdb::FloatGrid::Ptr grid, const VdbOptions& options, const std::string& path)
+      : input_(std::move(grid)), path_(path) {
+    colour_ = options.colour.value_or(glm::vec3(0.8f));
+    sigma_rho2_ = options.sigma_rho >= 0 ? options.sigma_rho * options.sigma_rho : 0.01f;
+    const double h = input_->voxelSize()[0];
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    double crossing = 0;
+    for (auto v = input_->tree().cbeginValueOn(); v; ++v) {
+      if (!std::isfinite(*v)) {
+        throw std::runtime_error(path + ": grid \"" + input_->getName() + "\" holds a non-finite distance");
+      }
+      if (std::abs(*v) >= h) continue;
+      const openvdb::CoordBBox box = v.getBoundingBox();
+      for (const openvdb::Coord& c : {box.min(), box.max()}) {
+        const openvdb::Vec3d w = input_->indexToWorld(c);
+        lo = glm::min(lo, glm::dvec3(w.x(), w.y(), w.z()));
+        hi = glm::max(hi, glm::dvec3(w.x(), w.y(), w.z()));
+      }
+      crossing += double(box.volume());
+    }
+    if (!(crossing > 0)) {
+      throw std::runtime_error(path + ": grid \"" + input_->getName() +
+                               "\" has no zero crossing (no active voxel within one voxel of the surface)");
+    }
+    // Rotated transforms: the corners' box bounds the rotated voxels.
+    lo -= glm::dvec3(h), hi += glm::dvec3(h);
+    for (int k = 0; k < 3; ++k) {
+      if (!(std::abs(lo[k]) <= kMaxCoordinate && std::abs(hi[k]) <= kMaxCoordinate)) {
+        throw std::runtime_error(path + ": grid \"" + input_->getName() + "\" reaches beyond +-1e15 scene units");
+      }
+    }
+    bounds_ = {glm::vec3(lo), glm::vec3(hi)};
+    area_ = crossing * h * h;  // voxels within one voxel: about twice the area
+  }
+
+  Box bounds() const override { return bounds_; }
+  float sigma_rho2() const override { return sigma_rho2_; }
+  double surface_area() const override { return area_; }
+  double bytes_per_sample() const override { return 6 * 4 * 1.5; }
+
+  void prepare(const Lattice& lattice) override {
+    lattice_ = lattice;
+    try {
+      auto transform = openvdb::math::Transform::createLinearTransform(lattice.voxel);
+      transform->postTranslate(openvdb::Vec3d(lattice.origin.x, lattice.origin.y, lattice.origin.z));
+      distance_ = openvdb::FloatGrid::create(float(kBandVoxels * lattice.voxel));
+      distance_->setTransform(transform);
+      distance_->setGridClass(openvdb::GRID_LEVEL_SET);
+      // A level set is rebuilt with the output's band (OpenVDB's
+      // levelSetRebuild); the same transform copies the grid as it is.
+      openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*input_, *distance_);
+    } catch (const openvdb::Exception& e) {
+      throw std::runtime_error(path_ + ": resampling to the lattice: " + one_line(e.what()));
+    }
+    input_.reset();
+  }
+
+  std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
+    std::vector<glm::ivec3> out;
+    const int B = int(brick_size), limit = int(lattice_.resolution / brick_size);
+    const float half = 0.5f * float(lattice_.voxel);
+    for (auto leaf = distance_->tree().cbeginLeaf(); leaf; ++leaf) {
+      bool surface = false;
+      for (auto v = leaf->cbeginValueOn(); v && !surface; ++v) surface = std::abs(*v) <= half;
+      if (!surface) continue;
+      const openvdb::CoordBBox box = leaf->getNodeBoundingBox();
+      glm::ivec3 lo(box.min().x(), box.min().y(), box.min().z()), hi(box.max().x(), box.max().y(), box.max().z());
+      glm::ivec3 blo = glm::max(glm::ivec3(0), glm::ivec3(glm::floor(glm::vec3(lo) / float(B))));
+      glm::ivec3 bhi = glm::min(glm::ivec3(limit - 1), glm::ivec3(glm::floor(glm::vec3(hi) / float(B))));
+      for (int z = blo.z; z <= bhi.z; ++z)
+        for (int y = blo.y; y <= bhi.y; ++y)
+          for (int x = blo.x; x <= bhi.x; ++x) out.emplace_back(x, y, z);
+    }
+    std::sort(out.begin(), out.end(),
+              [](glm::ivec3 a, glm::ivec3 b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); });
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  using SurfaceSource::evaluate;
+  void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const override {
+    out.clear();
+    auto acc = distance_->getConstAccessor();
+    const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+          const openvdb::Coord ijk(x, y, z);
+          FinePoint point;
+          const float d = acc.getValue(ijk);
+          if (std::abs(d) < band && acc.isValueOn(ijk)) {
+            // The normal: the distance's gradient (central differences).
+            auto at = [&](int dx, int dy, int dz) { return double(acc.getValue(ijk.offsetBy(dx, dy, dz))); };
+            glm::dvec3 g(at(1, 0, 0) - at(-1, 0, 0), at(0, 1, 0) - at(0, -1, 0), at(0, 0, 1) - at(0, 0, -1));
+            const double length = glm::length(g);
+            const glm::dvec3 n = length > 0 && std::isfinite(length) ? g / length : glm::dvec3(0, 0, 1);
+            const glm::dvec3 p = lattice_.position({x, y, z});
+            point.near = true;
+            point.distance = d;
+            point.normal = glm::vec3(n);
+            point.closest = glm::vec3(p - double(d) * n);
+            point.colour = colour_;
+          } else {
+            // Outside the band: at least the band's width, on the grid's side.
+            point.distance = std::copysign(std::max(std::abs(d), band), d);
+          }
+          out.push_back(point);
+        }
+  }
+
+ private:
+  openvdb::FloatGrid::Ptr input_;
+  std::string path_;
+  glm::vec3 colour_{0.8f};
+  float sigma_rho2_ = 0.01f;
+  Box bounds_;
+  double area_ = 0;
+  Lattice lattice_;
+  openvdb::FloatGrid::Ptr distance_;
+};
+
+}  // namespace
+
+bool is_vdb_path(const std::string& path) { return screen::lower_extension(path) == ".vdb"; }
+
+std::unique_ptr<SurfaceSource> load_vdb(const std::string& path, const VdbOptions& options) {
+  auto fail = [&](const std::string& why) { throw std::runtime_error(path + ": " + one_line(why)); };
+  try {
+    files::require_regular_file(path, "an OpenVDB file");
+  } catch (const files::FileError& e) {
+    throw std::runtime_error(e.what());
+  }
+  initialize_openvdb();
+  openvdb::GridBase::Ptr base;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);
+    openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
+    std::string names;
+    for (const auto& g : *grids) names += (names.empty() ? "" : ", ") + describe(*g);
+    openvdb::GridBase::Ptr chosen;
+    if (!options.grid.empty()) {
+      for (const auto& g : *grids)
+        if (g->getName() == options.grid) chosen = g;
+      if (!chosen)
+        fail("no grid named \"" + options.grid + "\" (the file holds " + (names.empty() ? "none" : names) + ")");
+    } else {
+      int level_sets = 0;
+      for (const auto& g : *grids) {
+        if (g->isType<openvdb::FloatGrid>() && g->getGridClass() == openvdb::GRID_LEVEL_SET) chosen = g, ++level_sets;
+      }
+      if (level_sets == 0) fail("no float level set among its grids (" + (names.empty() ? "none" : names) + ")");
+      if (level_sets > 1) fail("several float level sets (" + names + "): name one with --grid NAME");
+    }
+    if (!chosen->isType<openvdb::FloatGrid>()) {
+      fail("grid " + describe(*chosen) + " is not a float grid: a float level set is expected");
+    }
+    if (chosen->getGridClass() != openvdb::GRID_LEVEL_SET) {
+      fail("grid " + describe(*chosen) +
+           " is not a level set: a signed distance field (class level set) is expected, e.g. from "
+           "vdb_tool's mesh2ls or openvdb::tools::fogToSdf");
+    }
+    // Sizes from the metadata, before the tree is read.
+    if (auto count = chosen->getMetadata<openvdb::Int64Metadata>("file_voxel_count")) {
+      if (double(count->value()) > kMaxVdbVoxels) {
+        fail("grid " + describe(*chosen) + " has " + std::to_string(count->value()) +
+             " active voxels, more than the limit of 1e9");
+      }
+    }
+    base = file.readGrid(chosen->getName());
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    fail(std::string("not an OpenVDB file it can read: ") + e.what());
+  } catch (const std::ios_base::failure& e) {
+    fail(std::string("read error: ") + e.what());
+  } catch (const std::bad_alloc&) {
+    fail("OpenVDB ran out of memory reading it (a corrupt file?)");
+  } catch (const std::runtime_error&) {
+    throw;  // ours, one line already
+  } catch (const std::exception& e) {
+    fail(std::string("not an OpenVDB file it can read: ") + e.what());
+  }
+  auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+  if (!grid) fail("the grid read is not a float grid");
+  const openvdb::math::Transform& t = grid->transform();
+  const openvdb::Vec3d size = grid->voxelSize();
+  if (!t.isLinear() || !t.hasUniformScale() || !(size[0] > 0) || !std::isfinite(size[0])) {
+    fail("grid " + describe(*grid) + " has a transform that is not linear with a uniform voxel size");
+  }
+  if (double(grid->activeVoxelCount()) > kMaxVdbVoxels) {
+    fail("grid " + describe(*grid) + " has " + std::to_string(grid->activeVoxelCount()) +
+         " active voxels, more than the limit of 1e9");
+  }
+  const float background = grid->background();
+  if (!(background > 0) || !std::isfinite(background)) {
+    fail("grid " + describe(*grid) + " has background " + std::to_string(background) + ", not a positive band width");
+  }
+  for (auto v = grid->tree().cbeginValueAll(); v; ++v) {
+    if (!std::isfinite(*v)) fail("grid " + describe(*grid) + " holds a non-finite value");
+  }
+  return std::make_unique<VdbSource>(grid, options, path);
+}
+
+VdbExport export_vdb(const octree::Octree& tree, const std::string& path, const std::string& grid_name) {
+  auto fail = [&](const std::string& why) { throw std::runtime_error(path + ": " + one_line(why)); };
+  if (tree.channel_index(octree::Channel::Distance) < 0) fail("the octree stores no distance channel");
+  initialize_openvdb();
+  const uint32_t finest = tree.depth_count - 1;
+  const double h = double(tree.size) / double(tree.finest_resolution());
+  const float background = float(kBandVoxels * h);
+  VdbExport report;
+  report.voxel_size = h;
+  report.background = background;
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  try {
+    auto transform = openvdb::math::Transform::createLinearTransform(h);
+    transform->postTranslate(openvdb::Vec3d(tree.origin.x, tree.origin.y, tree.origin.z));
+    grid->setTransform(transform);
+  } catch (const openvdb::Exception& e) {
+    fail(std::string("voxel size ") + std::to_string(h) + ": " + e.what());
+  }
+  grid->setName(grid_name);
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  grid->insertMeta("creator", openvdb::StringMetadata("svo export"));
+  auto acc = grid->getAccessor();
+  const int B = int(tree.brick_size);
+  // Depth-first over the nodes with their coordinates; the finest level's
+  // bricks give their B^3 lattice points.
+  struct Item {
+    uint32_t node, depth;
+    glm::ivec3 c;
+  };
+  std::vector<Item> stack{{0, 0, glm::ivec3(0)}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const octree::Node& node = tree.nodes[it.node];
+    if (it.depth == finest) {
+      if (node.brick == octree::kNone) continue;
+      for (int z = 0; z < B; ++z)
+        for (int y = 0; y < B; ++y)
+          for (int x = 0; x < B; ++x) {
+            const uint32_t i = uint32_t(x + B * (y + B * z));
+            const float d = octree::decode_voxel(tree, node.brick, i, finest).hbar;
+            if (!(std::abs(d) < background)) continue;
+            const glm::ivec3 p = it.c * B + glm::ivec3(x, y, z);
+            acc.setValue(openvdb::Coord(p.x, p.y, p.z), d);
+            ++report.active_voxels;
+          }
+      continue;
+    }
+    if (node.children == octree::kNone) continue;
+    for (uint32_t k = 0; k < 8; ++k) {
+      stack.push_back({node.children + k, it.depth + 1, 2 * it.c + glm::ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1)});
+    }
+  }
+  // Inactive voxels and tiles take the outside or inside background from
+  // their active neighbours, as OpenVDB's level sets do.
+  openvdb::tools::signedFloodFill(grid->tree());
+  openvdb::tools::pruneLevelSet(grid->tree());
+  // openvdb::io::File writes by name: into the OutputFile's temporary, then
+  // committed (fsync, rename) so that a reader never sees a partial file.
+  files::OutputFile out(path);
+  try {
+    openvdb::io::File file(out.temporary());
+    file.write({grid});
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    fail(std::string("writing: ") + e.what());
+  }
+  out.commit();
+  return report;
+}
+
+}  // namespace svo::voxelizer
