@@ -2,14 +2,13 @@
 // ground truth of every way the engine can draw a frame: one pre-filtered
 // cone per pixel, the three baselines, and supersampled ray marching of the
 // finest level at 1, 4, 16 and 64 rays per pixel (DESIGN section 9).
-#include <glm/common.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <glm/common.hpp>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -17,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_tie.h"
 #include "bench_util.h"
 #include "cmd_bench_figures.h"
 #include "commands.h"
@@ -55,6 +55,7 @@ struct SpeedErrorArgs {
   LightingOptions lighting;  // --env, --material: the forward pass at several spp instead of the tracer's modes
   std::string device;
   std::string out = "bench-speed-error";
+  double tie_tolerance = bench::kErrorTieTolerance;
 };
 
 // One way of drawing a frame.
@@ -79,31 +80,32 @@ std::vector<std::string> split(const std::string& s) {
   return parts;
 }
 
-// Time of supersampled marching at the error `target`, interpolated on the
-// log-log curve through its points (sorted by rays); nullopt when the target
-// is outside the curve's error range.
-std::optional<double> time_at_error(const std::vector<Row>& march, double target) {
-  for (size_t i = 0; i + 1 < march.size(); ++i) {
-    double e0 = march[i].relmse, e1 = march[i + 1].relmse;
-    if ((e0 - target) * (e1 - target) > 0 || e0 == e1 || e0 <= 0 || e1 <= 0) continue;
-    double f = (std::log(target) - std::log(e0)) / (std::log(e1) - std::log(e0));
-    return std::exp(std::log(march[i].ms) + f * (std::log(march[i + 1].ms) - std::log(march[i].ms)));
-  }
-  return std::nullopt;
-}
-
-void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::string& title) {
+// One panel per view, time against relMSE: ray marching as a line through
+// its 1-64 rays per pixel, each one-cone method as its own point style named
+// in the key (the one-cone methods often lie within a few percent of each
+// other: labels beside the points overprinted).
+void write_plot(const fs::path& dir, const std::vector<std::string>& views, const std::vector<std::string>& singles,
+                const std::string& title) {
   bench::TextFile gp(dir / "plot.gp");
-  gp << "set terminal pngcairo size 1200,420 font 'sans,10'\nset output '" << (dir / "speed-error.png").string()
-     << "'\nset datafile separator ','\nset logscale xy\nset key bottom left\nset grid\n"
+  gp << "set terminal pngcairo size " << std::max<size_t>(480, 440 * views.size()) << ",480 font 'sans,10'\n"
+     << "set output '" << (dir / "speed-error.png").string()
+     << "'\nset datafile separator ','\nset logscale xy\nset grid\nset key outside bottom center horizontal\n"
+     << "set xlabel 'ms per frame (GPU)'\nset ylabel 'relMSE'\nset offsets graph 0.05, graph 0.05, graph 0.05, "
+        "graph 0.05\n"
      << "set multiplot layout 1," << views.size() << " title '" << title << "'\n";
+  const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"};
+  const int points[] = {7, 5, 9, 11, 13, 3};
   for (const auto& v : views) {
-    gp << "set title '" << v << "'\nset xlabel 'ms per frame (GPU)'\nset ylabel 'relMSE'\n"
-       << "plot '" << (dir / "results.csv").string() << "' every ::1 using (stringcolumn(1) eq '" << v
-       << "' && strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6 with linespoints title 'ray marching 1-64 spp', "
-       << "'' every ::1 using (stringcolumn(1) eq '" << v
-       << "' && !strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6:2 with labels point pt 7 offset 1,0.5 left "
-       << "notitle\n";
+    gp << "set title '" << v << "'\nplot '" << (dir / "results.csv").string()
+       << "' every ::1 using (stringcolumn(1) eq '" << v
+       << "' && strstrt(stringcolumn(2),'raymarch') ? $4 : 1/0):6 with linespoints lc '#777777' pt 6 "
+       << "title 'ray marching 1-64 rays'";
+    for (size_t i = 0; i < singles.size(); ++i) {
+      gp << ", '' every ::1 using (stringcolumn(1) eq '" << v << "' && stringcolumn(2) eq '" << singles[i]
+         << "' ? $4 : 1/0):6 with points pt " << points[i % 6] << " ps 1.6 lc '" << colours[i % 6] << "' title '"
+         << singles[i] << "'";
+    }
+    gp << "\n";
   }
   gp << "unset multiplot\n";
   gp.save();
@@ -127,7 +129,10 @@ void run_speed_error(const SpeedErrorArgs& a) {
   ProgressBar bar("bench");
   voxelizer::VoxelizeOptions vo;
   vo.resolution = a.resolution;
-  vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, f); };
+  // The bar's fraction runs once over the whole bench (voxelize 10%, then
+  // each view: its ground truth half, its methods half), so that the time
+  // left is extrapolated from the time so far.
+  vo.progress = [&](const std::string& stage, double f) { bar.update("voxelize " + stage, 0.1 * f); };
   std::unique_ptr<voxelizer::AnalyticScene> scene;
   std::unique_ptr<reference::Geometry> geometry;
   octree::Octree tree;
@@ -147,14 +152,17 @@ void run_speed_error(const SpeedErrorArgs& a) {
   // materials): the forward pass's speed against error as its samples grow,
   // the baseline curve of the shading modules.
   const bool lit = shades_forward(a.lighting, tree);
-  const std::vector<Method> methods =
-      lit ? std::vector<Method>{{"forward-16", render::Mode::Prefiltered, 16},
-                                {"forward-64", render::Mode::Prefiltered, 64},
-                                {"forward-256", render::Mode::Prefiltered, 256}}
-          : std::vector<Method>{{"prefiltered", render::Mode::Prefiltered, 1}, {"nearest", render::Mode::Nearest, 1},
-                                {"alpha", render::Mode::Alpha, 1},             {"mip", render::Mode::Mip, 1},
-                                {"raymarch-1", render::Mode::RayMarch, 1},     {"raymarch-4", render::Mode::RayMarch, 4},
-                                {"raymarch-16", render::Mode::RayMarch, 16},   {"raymarch-64", render::Mode::RayMarch, 64}};
+  const std::vector<Method> methods = lit ? std::vector<Method>{{"forward-16", render::Mode::Prefiltered, 16},
+                                                                {"forward-64", render::Mode::Prefiltered, 64},
+                                                                {"forward-256", render::Mode::Prefiltered, 256}}
+                                          : std::vector<Method>{{"prefiltered", render::Mode::Prefiltered, 1},
+                                                                {"nearest", render::Mode::Nearest, 1},
+                                                                {"alpha", render::Mode::Alpha, 1},
+                                                                {"mip", render::Mode::Mip, 1},
+                                                                {"raymarch-1", render::Mode::RayMarch, 1},
+                                                                {"raymarch-4", render::Mode::RayMarch, 4},
+                                                                {"raymarch-16", render::Mode::RayMarch, 16},
+                                                                {"raymarch-64", render::Mode::RayMarch, 64}};
   if (lit) gpu.add_pass(render::make_pass("forward"));
 
   std::vector<Row> rows;
@@ -169,13 +177,16 @@ void run_speed_error(const SpeedErrorArgs& a) {
     reference::ReferenceSettings rs;
     rs.render = s;
     rs.spp = a.reference_spp;
-    rs.progress = [&](double f) { bar.update(view + ": reference", f); };
+    const double view_start = 0.1 + 0.9 * double(vi) / double(views.size()), view_share = 0.9 / double(views.size());
+    rs.progress = [&](double f) {
+      bar.update(view + ": reference", uint64_t(f * a.size + 0.5), a.size, "rows", view_start + 0.5 * view_share * f);
+    };
     render::Frame truth = reference::render_reference(*geometry, rs);
     render::write_colour((dir / (view + "-reference.exr")).string(), truth);
     const render::Image truth_image = render::frame_image(truth);
     for (size_t mi = 0; mi < methods.size(); ++mi) {
       const Method& m = methods[mi];
-      bar.update(view + ": " + m.name, double(mi) / double(methods.size()));
+      bar.update(view + ": " + m.name, view_start + view_share * (0.5 + 0.5 * double(mi) / double(methods.size())));
       s.mode = m.mode;
       s.spp = lit ? 1 : m.spp;
       s.shading.spp = m.spp;
@@ -202,22 +213,37 @@ void run_speed_error(const SpeedErrorArgs& a) {
       rows.push_back(row);
     }
     if (lit) continue;  // the rows are the curve; the modules' benches weigh it
-    // Headline: speed-up of one pre-filtered cone over supersampled marching at equal error.
-    std::vector<Row> march;
+    // Headline: speed-up of one pre-filtered cone over supersampled marching
+    // at equal error, or a tie when the errors are within their noise.
+    std::vector<bench::CostErrorPoint> march;
     const Row* ours = nullptr;
     for (const auto& r : rows) {
       if (r.view != view) continue;
-      if (r.method.rfind("raymarch", 0) == 0) march.push_back(r);
+      if (r.method.rfind("raymarch", 0) == 0) march.push_back({r.method, r.ms, r.relmse});
       if (r.method == "prefiltered") ours = &r;
     }
     nlohmann::json h = {{"prefiltered_ms", ours->ms}, {"prefiltered_relmse", ours->relmse}};
-    if (auto t = time_at_error(march, ours->relmse)) {
-      h["raymarch_ms_at_equal_error"] = *t;
-      h["speedup"] = *t / ours->ms;
-    } else if (ours->relmse < march.back().relmse) {
-      // More accurate than the most rays tried: the speed-up is at least this.
-      h["speedup_at_least"] = march.back().ms / ours->ms;
+    const bench::EqualErrorClaim claim = bench::claim_at_equal_error(ours->ms, ours->relmse, march, a.tie_tolerance);
+    using Kind = bench::EqualErrorClaim::Kind;
+    if (claim.kind == Kind::Speedup) {
+      h["raymarch_ms_at_equal_error"] = claim.factor * ours->ms;
+      h["speedup"] = claim.factor;
+    } else if (claim.kind == Kind::AtLeast) {
+      h["speedup_at_least"] = claim.factor;
+      h["compared_with"] = claim.against;
+    } else if (claim.kind == Kind::Tie) {
+      h["tie"] = true;
+      h["tied_with"] = claim.against;
+      h["tied_relmse"] = claim.against_error;
+      h["tied_ms"] = claim.factor * ours->ms;
     }
+    // The spread of every method's relMSE in this view, for the summary.
+    double lo = ours->relmse, hi = ours->relmse;
+    for (const auto& r : rows) {
+      if (r.view == view) lo = std::min(lo, r.relmse), hi = std::max(hi, r.relmse);
+    }
+    h["relmse_min"] = lo;
+    h["relmse_max"] = hi;
     headline[view] = h;
   }
   bar.finish();
@@ -227,8 +253,8 @@ void run_speed_error(const SpeedErrorArgs& a) {
     bench::TextFile csv(dir / "results.csv");
     csv << "view,method,spp,ms,us_per_covered_pixel,relmse,rmse,psnr,coverage_error,coverage_error_silhouette\n";
     for (const auto& r : rows) {
-      csv << r.view << "," << r.method << "," << r.spp << "," << r.ms << "," << r.us_per_pixel << "," << r.relmse
-          << "," << r.rmse << "," << r.psnr << "," << r.coverage_error << "," << r.coverage_error_silhouette << "\n";
+      csv << r.view << "," << r.method << "," << r.spp << "," << r.ms << "," << r.us_per_pixel << "," << r.relmse << ","
+          << r.rmse << "," << r.psnr << "," << r.coverage_error << "," << r.coverage_error_silhouette << "\n";
     }
     csv.save();
   }
@@ -241,33 +267,70 @@ void run_speed_error(const SpeedErrorArgs& a) {
   j["headline"] = headline;
   j["rows"] = nlohmann::json::array();
   for (const auto& r : rows) {
-    j["rows"].push_back({{"view", r.view}, {"method", r.method}, {"spp", r.spp}, {"ms", r.ms},
-                         {"us_per_covered_pixel", r.us_per_pixel}, {"relmse", r.relmse}, {"rmse", r.rmse},
-                         {"psnr", r.psnr}, {"coverage_error", r.coverage_error},
+    j["rows"].push_back({{"view", r.view},
+                         {"method", r.method},
+                         {"spp", r.spp},
+                         {"ms", r.ms},
+                         {"us_per_covered_pixel", r.us_per_pixel},
+                         {"relmse", r.relmse},
+                         {"rmse", r.rmse},
+                         {"psnr", r.psnr},
+                         {"coverage_error", r.coverage_error},
                          {"coverage_error_silhouette", r.coverage_error_silhouette}});
   }
   files::write_file((dir / "results.json").string(), j.dump(2) + "\n");
   std::ostringstream md;
   md << "Source " << source_name(a.source) << " at " << a.resolution << "^3, " << a.size << "x" << a.size
      << ", reference " << a.reference_spp << " spp, device " << gpu.device_name() << ", median of " << a.repeats
-     << " frames" << (lit ? ", image-based lighting (forward pass)" : "") << ".\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
+     << " frames" << (lit ? ", image-based lighting (forward pass)" : "")
+     << ".\n\n| view | method | ms | us per covered pixel | relMSE | RMSE | coverage error (silhouette) |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     md << "| " << r.view << " | " << r.method << " | " << fmt(r.ms, 1) << " | " << fmt(r.us_per_pixel, 2) << " | "
        << sci(r.relmse) << " | " << sci(r.rmse) << " | " << fmt(r.coverage_error_silhouette, 3) << " |\n";
   }
-  if (!lit) md << "\n| view | speed-up of prefiltered over ray marching at equal relMSE |\n|---|---|\n";
+  if (!lit) {
+    md << "\n| view | prefiltered against ray marching at equal relMSE |\n|---|---|\n";
+  }
   for (const auto& v : lit ? std::vector<std::string>{} : views) {
     const auto& h = headline[v];
-    md << "| " << v << " | "
-       << (h.contains("speedup")         ? fmt(h["speedup"].get<double>(), 1) + "x"
-           : h.contains("speedup_at_least") ? "at least " + fmt(h["speedup_at_least"].get<double>(), 1) +
-                                                  "x (more accurate than 64 rays per pixel)"
-                                            : std::string("none: less accurate than 1 ray per pixel"))
-       << " |\n";
+    const double ours_ms = h["prefiltered_ms"].get<double>();
+    std::string says;
+    if (h.contains("speedup")) {
+      says = fmt(h["speedup"].get<double>(), 1) + "x faster";
+    } else if (h.contains("speedup_at_least")) {
+      says = "at least " + fmt(h["speedup_at_least"].get<double>(), 1) + "x faster (more accurate than " +
+             h["compared_with"].get<std::string>() + " beyond the noise)";
+    } else if (h.contains("tie")) {
+      says = "tie: relMSE " + sci(h["prefiltered_relmse"].get<double>()) + " against " +
+             sci(h["tied_relmse"].get<double>()) + " for " + h["tied_with"].get<std::string>() + ", within the " +
+             fmt(100 * a.tie_tolerance, 0) + "% noise; " + fmt(ours_ms, 2) + " ms against " +
+             fmt(h["tied_ms"].get<double>(), 2) + " ms";
+    } else {
+      says = "none: less accurate than 1 ray per pixel";
+    }
+    md << "| " << v << " | " << says << " |\n";
+  }
+  if (!lit) {
+    md << "\nErrors within " << fmt(100 * a.tie_tolerance, 0)
+       << "% of each other (relative, --tie-tolerance) are a tie: the ground truth's own noise and the octree's "
+          "resolution move relMSE by that much, so no speed-up is claimed from them.";
+    for (const auto& v : views) {
+      const auto& h = headline[v];
+      const double lo = h["relmse_min"].get<double>(), hi = h["relmse_max"].get<double>();
+      if (bench::errors_tie(lo, hi, a.tie_tolerance)) {
+        md << " In the " << v << " view every method's relMSE lies within " << fmt(100 * (hi - lo) / hi, 1) << "% ("
+           << sci(lo) << " to " << sci(hi) << "): the error there does not tell the methods apart.";
+      }
+    }
+    md << "\n";
   }
   files::write_file((dir / "table.md").string(), md.str());
-  write_plot(dir, views, "speed against error: " + source_name(a.source));
+  std::vector<std::string> singles;
+  for (const auto& m : methods) {
+    if (m.name.rfind("raymarch", 0) != 0) singles.push_back(m.name);
+  }
+  write_plot(dir, views, singles, "speed against error: " + source_name(a.source));
   std::cout << md.str();
 }
 
@@ -310,7 +373,8 @@ void run_material(const MaterialArgs& a) {
   md << "Gaussian height field, sigma_h " << a.sigma_h << ", slope variance " << sci(field.slope_variance().x) << ", "
      << sci(field.slope_variance().y) << "; ground truth " << a.size << " pixels high, " << a.spp
      << " spp; engine: octree " << a.resolution << "^3, one prefiltered cone per pixel, 4 pixels high.\n\n"
-     << "| degrees | ground truth (R G B) | Eq. 17 | error | MIP | error | engine | error |\n|---|---|---|---|---|---|---|---|\n";
+     << "| degrees | ground truth (R G B) | Eq. 17 | error | MIP | error | engine | error "
+        "|\n|---|---|---|---|---|---|---|---|\n";
   for (size_t i = 0; i < curve.size(); ++i) {
     glm::vec3 engine = bench::engine_material_colour(gpu, curve[i].degrees, o);
     bar.update("engine", 0.9 + 0.1 * double(i + 1) / double(curve.size()));
@@ -351,6 +415,10 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       ->default_val(3)
       ->check(CLI::Range(1u, 100u));
   se->add_flag("--shadows", a->shadows, "Soft shadows in every method and in the ground truth");
+  se->add_option("--tie-tolerance", a->tie_tolerance,
+                 "Relative difference of relMSE below which two methods tie (no speed-up is claimed)")
+      ->default_val(bench::kErrorTieTolerance)
+      ->check(CLI::Range(0.0, 1.0));
   add_lighting_options(*se, a->lighting);
   se->add_option("--device", a->device, kDeviceHelp);
   se->add_option("-o,--out", a->out, "Output directory (created)")->default_val("bench-speed-error");
@@ -373,7 +441,9 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   mat->add_option("--resolution", m->resolution, "Octree resolution for the engine's curve")
       ->default_val(256)
       ->check(CLI::Range(16u, 2048u));
-  mat->add_option("--size", m->size, "Ground-truth image height, pixels")->default_val(64)->check(CLI::Range(4u, 1024u));
+  mat->add_option("--size", m->size, "Ground-truth image height, pixels")
+      ->default_val(64)
+      ->check(CLI::Range(4u, 1024u));
   mat->add_option("--spp", m->spp, "Ground-truth samples per pixel")->default_val(4)->check(CLI::Range(1u, 4096u));
   mat->add_option("--device", m->device, kDeviceHelp);
   mat->add_option("-o,--out", m->out, "Output directory (created)")->default_val("bench-material");

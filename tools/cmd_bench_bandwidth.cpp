@@ -26,6 +26,7 @@
 #include <sstream>
 #include <thread>
 
+#include "bench_tie.h"
 #include "bench_util.h"
 #include "commands.h"
 #include "progress.h"
@@ -152,19 +153,6 @@ render::Frame timed(F render_frame, uint32_t repeats, double& ms) {
   return f;
 }
 
-// The forward time at `error` on the forward sweep (sorted by spp), log-log
-// between the two points around it; < 0 outside the sweep.
-double forward_ms_at(const std::vector<Point>& forward, double error) {
-  for (size_t i = 1; i < forward.size(); ++i) {
-    const Point &a = forward[i - 1], &b = forward[i];
-    if ((a.relmse - error) * (b.relmse - error) > 0) continue;
-    if (a.relmse == b.relmse) return a.ms;
-    const double t = (std::log(error) - std::log(a.relmse)) / (std::log(b.relmse) - std::log(a.relmse));
-    return std::exp(std::log(a.ms) + t * (std::log(b.ms) - std::log(a.ms)));
-  }
-  return -1;
-}
-
 // Spearman's rank correlation of two samples.
 double rank_correlation(const std::vector<double>& x, const std::vector<double>& y) {
   auto ranks = [](const std::vector<double>& v) {
@@ -260,7 +248,9 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           reference::ReferenceSettings rs;
           rs.render = s;
           rs.spp = a.truth_spp;
-          rs.progress = [&](double f) { bar.update(label + ": svo reference", f); };
+          rs.progress = [&, rows = uint64_t(rs.render.height)](double f) {
+            bar.update(label + ": svo reference", uint64_t(f * double(rows) + 0.5), rows, "rows");
+          };
           truth = reference::render_reference(*scene.geometry, rs);
         } else {
           render::RenderSettings t = s;
@@ -325,22 +315,30 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
             md << "| forward | " << p.knob << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse) << " | | | | 1 | "
                << p.knob << " |\n";
           double best_bound = 0, best_measured = 0;
+          std::vector<bench::CostErrorPoint> curve;
+          for (const Point& p : fwd) curve.push_back({"forward " + bench::fmt(p.knob, 0) + " spp", p.ms, p.relmse});
           for (const Point& p : ad) {
-            const double at = forward_ms_at(fwd, p.relmse);
-            // Below the sweep's smallest error: at least the slowest forward
-            // frame's time over this one's (a lower bound, marked ">=").
-            const bool beyond = at < 0 && !fwd.empty() && p.relmse < fwd.back().relmse;
-            const double speedup = at > 0 ? at / p.ms : beyond ? fwd.back().ms / p.ms : 0;
+            // Errors within the noise of a forward frame's (bench_tie.h): a
+            // tie, no speed-up claimed. Below the sweep's smallest error
+            // beyond the noise: at least the most accurate forward frame's
+            // time over this one's (a lower bound, marked ">=").
+            const bench::EqualErrorClaim claim = bench::claim_at_equal_error(p.ms, p.relmse, curve);
+            using Kind = bench::EqualErrorClaim::Kind;
+            const bool at = claim.kind == Kind::Speedup, beyond = claim.kind == Kind::AtLeast,
+                       tie = claim.kind == Kind::Tie;
+            const double speedup = at || beyond ? claim.factor : 0;
             (p.method == "bound" ? best_bound : best_measured) =
                 std::max(p.method == "bound" ? best_bound : best_measured, speedup);
             md << "| adaptive (" << p.method << ") | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | "
                << sci(p.relmse) << " | "
-               << (at > 0   ? bench::fmt(at, 0)
+               << (at       ? bench::fmt(claim.factor * p.ms, 0)
                    : beyond ? "below the sweep's best"
+                   : tie    ? "ties " + claim.against + " (" + sci(claim.against_error) + ")"
                             : "outside the sweep")
                << " | "
-               << (at > 0   ? bench::fmt(speedup, 2) + "x"
+               << (at       ? bench::fmt(speedup, 2) + "x"
                    : beyond ? ">= " + bench::fmt(speedup, 2) + "x"
+                   : tie    ? "tie (" + bench::fmt(claim.factor * p.ms, 0) + " ms there)"
                             : "-")
                << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1) << "% | "
                << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
@@ -348,8 +346,9 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           }
           md << "\nBest speed-up at equal relMSE: " << bench::fmt(best_bound, 2) << "x (Eq. 9's bound), "
              << bench::fmt(best_measured, 2) << "x (measured variance); a frame below the forward sweep's smallest "
-             << "error counts as the slowest forward frame's time over its own (a lower bound); 0: no frame within "
-             << "the sweep.\n\n";
+             << "error counts as the slowest forward frame's time over its own (a lower bound); a relMSE within "
+             << bench::fmt(100 * bench::kErrorTieTolerance, 0) << "% of a forward frame's is a tie and claims no "
+             << "speed-up; 0: no frame beyond the noise within the sweep.\n\n";
           row["best_speedup_bound"] = best_bound;
           row["best_speedup_measured"] = best_measured;
           row["forward"] = nlohmann::json::array();
@@ -535,7 +534,9 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           rs.spp = a.truth_spp;
           render::Frame far_truth;
           if (a.truth == "reference") {
-            rs.progress = [&](double f) { bar.update(label + ": far view reference", f); };
+            rs.progress = [&, rows = uint64_t(rs.render.height)](double f) {
+              bar.update(label + ": far view reference", uint64_t(f * double(rows) + 0.5), rows, "rows");
+            };
             far_truth = reference::render_reference(*scene.geometry, rs);
           } else {
             render::RenderSettings u = t;

@@ -100,7 +100,9 @@ render::Frame reference_frame(const Setup& s, const render::RenderSettings& rs, 
   reference::ReferenceSettings r;
   r.render = rs;
   r.spp = spp;
-  r.progress = [&](double f) { bar.update(stage, f); };
+  r.progress = [&, rows = uint64_t(rs.height)](double f) {
+    bar.update(stage, uint64_t(f * double(rows) + 0.5), rows, "rows");
+  };
   return reference::render_reference(*s.geometry, r);
 }
 

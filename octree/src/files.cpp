@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <system_error>
 #include <utility>
 
@@ -143,6 +145,178 @@ size_t remove_stale_temporaries(const fs::path& dir, const std::string& prefix) 
   return removed;
 }
 
+// --- Temporaries removed on SIGINT, SIGTERM and SIGHUP.
+//
+// A fixed table of slots (no allocation, no lock in the handler). A slot's
+// `state` is 0 free, 1 being filled or emptied, 2 a file, 3 a directory; its
+// `generation` grows at every change, so that the handler, which copies a
+// path and then checks that the generation did not move, never acts on a
+// path torn by a concurrent change. A table full (more than kSlots live
+// temporaries) leaves the extra ones to the next run's stale cleanup.
+namespace {
+
+constexpr size_t kSlots = 256;
+constexpr size_t kPathBytes = 4096;
+
+struct Slot {
+  std::atomic<uint32_t> state{0};
+  std::atomic<uint32_t> generation{0};
+  char path[kPathBytes];
+};
+
+Slot g_slots[kSlots];
+bool g_stderr_tty = false;
+// The program's own handlers take precedence: cleanup is installed only over
+// the default disposition (an ignored SIGINT, as in a background job, stays
+// ignored).
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+static_assert(std::atomic<uint32_t>::is_always_lock_free, "the signal handler reads the slots");
+
+// Async-signal-safe helpers: no allocation, no locks, no stdio.
+void copy_path(char* to, const char* from) {
+  size_t i = 0;
+  for (; i + 1 < kPathBytes && from[i]; ++i) to[i] = from[i];
+  to[i] = '\0';
+}
+
+size_t length(const char* s) {
+  size_t n = 0;
+  while (s[n]) ++n;
+  return n;
+}
+
+void say(const char* text) {
+  size_t n = length(text);
+  while (n > 0) {
+    ssize_t w = ::write(STDERR_FILENO, text, n);
+    if (w <= 0) return;
+    text += w, n -= size_t(w);
+  }
+}
+
+// Removes the plain entries of `dir` (getdents64 and unlinkat are system
+// calls, safe in a handler; opendir/readdir are not), then the directory.
+void remove_directory_now(const char* dir) {
+  int fd = ::open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd >= 0) {
+    struct Entry {
+      uint64_t ino;
+      int64_t off;
+      unsigned short reclen;
+      unsigned char type;
+      char name[1];
+    };
+    alignas(8) char buffer[4096];
+    // Unlinking while listing may skip entries: list again until a pass
+    // removes nothing (bounded).
+    for (int pass = 0; pass < 16; ++pass) {
+      bool removed = false;
+      ::lseek(fd, 0, SEEK_SET);
+      for (;;) {
+        long n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+        if (n <= 0) break;
+        for (long at = 0; at < n;) {
+          const Entry* e = reinterpret_cast<const Entry*>(buffer + at);
+          at += e->reclen;
+          const char* name = e->name;
+          if (name[0] == '.' && (name[1] == '\0' || (name[1] == '.' && name[2] == '\0'))) continue;
+          if (::unlinkat(fd, name, 0) == 0) removed = true;
+        }
+      }
+      if (!removed) break;
+    }
+    ::close(fd);
+  }
+  ::rmdir(dir);
+}
+
+void remove_registered_now() {
+  char path[kPathBytes];
+  for (Slot& slot : g_slots) {
+    const uint32_t generation = slot.generation.load(std::memory_order_acquire);
+    const uint32_t state = slot.state.load(std::memory_order_acquire);
+    if (state < 2) continue;
+    for (size_t i = 0; i < kPathBytes; ++i) {
+      path[i] = slot.path[i];
+      if (!path[i]) break;
+    }
+    path[kPathBytes - 1] = '\0';
+    if (slot.generation.load(std::memory_order_acquire) != generation) continue;  // changed meanwhile
+    if (state == 2) ::unlink(path);
+    if (state == 3) remove_directory_now(path);
+  }
+}
+
+void on_fatal_signal(int sig) {
+  const int saved = errno;
+  remove_registered_now();
+  // A progress bar may hold the line.
+  if (g_stderr_tty) say("\n");
+  say(sig == SIGINT    ? "svo: interrupted (SIGINT); temporary files removed\n"
+      : sig == SIGTERM ? "svo: terminated (SIGTERM); temporary files removed\n"
+                       : "svo: hung up (SIGHUP); temporary files removed\n");
+  // Die of the same signal, so that the parent sees it (a shell: 128 + sig).
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  ::sigemptyset(&dfl.sa_mask);
+  ::sigaction(sig, &dfl, nullptr);
+  sigset_t unblock;
+  ::sigemptyset(&unblock);
+  ::sigaddset(&unblock, sig);
+  ::pthread_sigmask(SIG_UNBLOCK, &unblock, nullptr);
+  ::raise(sig);
+  errno = saved;
+}
+
+size_t register_temporary(const std::string& path, uint32_t kind) {
+  install_interrupt_cleanup();
+  if (path.size() + 1 > kPathBytes) return kSlots;
+  for (size_t i = 0; i < kSlots; ++i) {
+    uint32_t expected = 0;
+    if (!g_slots[i].state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) continue;
+    g_slots[i].generation.fetch_add(1, std::memory_order_acq_rel);
+    copy_path(g_slots[i].path, path.c_str());
+    g_slots[i].generation.fetch_add(1, std::memory_order_acq_rel);
+    g_slots[i].state.store(kind, std::memory_order_release);
+    return i;
+  }
+  return kSlots;
+}
+
+void unregister_temporary(size_t slot) {
+  if (slot >= kSlots) return;
+  g_slots[slot].state.store(1, std::memory_order_release);
+  g_slots[slot].generation.fetch_add(1, std::memory_order_acq_rel);
+  g_slots[slot].state.store(0, std::memory_order_release);
+}
+
+}  // namespace
+
+void install_interrupt_cleanup() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    g_stderr_tty = ::isatty(STDERR_FILENO) == 1;
+    struct sigaction action {};
+    action.sa_handler = on_fatal_signal;
+    ::sigemptyset(&action.sa_mask);
+    for (int s : kSignals) ::sigaddset(&action.sa_mask, s);
+    for (int s : kSignals) {
+      struct sigaction old {};
+      if (::sigaction(s, nullptr, &old) != 0) continue;
+      if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL) ::sigaction(s, &action, nullptr);
+    }
+  });
+}
+
+size_t live_temporaries() {
+  size_t n = 0;
+  for (const Slot& slot : g_slots) n += slot.state.load(std::memory_order_acquire) >= 2;
+  return n;
+}
+
+void remove_live_temporaries_for_test() { remove_registered_now(); }
+
 OutputFile::OutputFile(const std::string& path) : path_(path), target_(resolve_output(path)) {
   const fs::path target(target_);
   remove_stale_temporaries(target.parent_path(), target.filename().string() + ".tmp-");
@@ -157,11 +331,13 @@ OutputFile::OutputFile(const std::string& path) : path_(path), target_(resolve_o
     if (fd_ < 0 && errno != EEXIST) fail("creating " + temporary_, errno);
   }
   if (fd_ < 0) fail("creating " + temporary_, EEXIST);
+  slot_ = register_temporary(temporary_, 2);
   // The replaced file's mode is kept.
   if (existing && ::fchmod(fd_, st.st_mode & 07777) != 0) {
     int err = errno;
     ::close(std::exchange(fd_, -1));
     ::unlink(temporary_.c_str());
+    unregister_temporary(std::exchange(slot_, kNoSlot));
     fail("setting the mode of " + temporary_, err);
   }
 }
@@ -169,6 +345,7 @@ OutputFile::OutputFile(const std::string& path) : path_(path), target_(resolve_o
 OutputFile::~OutputFile() {
   if (fd_ >= 0) ::close(fd_);
   if (!committed_ && !temporary_.empty()) ::unlink(temporary_.c_str());
+  unregister_temporary(slot_);
 }
 
 void OutputFile::fail(const std::string& step, int err) const {
@@ -210,6 +387,7 @@ void OutputFile::commit() {
   if (::close(std::exchange(fd_, -1)) != 0) fail("closing " + temporary_, errno);
   if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail("renaming " + temporary_, errno);
   committed_ = true;
+  unregister_temporary(std::exchange(slot_, kNoSlot));
   // The rename made durable (best effort: some file systems refuse).
   int dfd = ::open(parent_of(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {
@@ -231,6 +409,7 @@ StagingDirectory::StagingDirectory(const fs::path& dir, const std::string& prefi
     fs::path candidate = dir / (prefix + std::to_string(::getpid()) + "-" + std::to_string(counter++));
     if (::mkdir(candidate.c_str(), 0777) == 0) {
       path_ = candidate;
+      slot_ = register_temporary(path_.string(), 3);
       return;
     }
     if (errno != EEXIST) throw FileError(candidate.string() + ": cannot create: " + std::strerror(errno));
@@ -241,6 +420,7 @@ StagingDirectory::StagingDirectory(const fs::path& dir, const std::string& prefi
 StagingDirectory::~StagingDirectory() {
   std::error_code ignored;
   if (!path_.empty()) fs::remove_all(path_, ignored);
+  unregister_temporary(slot_);
 }
 
 }  // namespace svo::files

@@ -5,6 +5,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -125,8 +126,12 @@ struct Builder {
   Builder(SurfaceSource& s, const VoxelizeOptions& o, VoxelizeReport& r)
       : source(s), options(o), rep(r), B(o.brick_size), N(o.resolution) {}
 
-  void progress(const std::string& stage, double f) const {
-    if (options.progress) options.progress(stage, f);
+  void progress(const std::string& stage, double f, uint64_t done = 0, uint64_t total = 0) const {
+    if (options.progress_items) {
+      options.progress_items(stage, f, done, total);
+    } else if (options.progress) {
+      options.progress(stage, f);
+    }
   }
 
   void prepare() {
@@ -156,6 +161,7 @@ struct Builder {
     // --- Finest samples: lattice points within half a voxel of the surface.
     progress("surface samples", 0.15);
     std::vector<glm::ivec3> candidates = source.candidate_bricks(B);
+    std::atomic<size_t> evaluated{0};
     struct Found {
       Key key;
       SurfaceSample sample;
@@ -179,6 +185,10 @@ struct Builder {
                                  {p.closest, p.turned ? -p.normal : p.normal, p.colour, p.material, p.sheet >= 0}});
               }
             }
+        const size_t n = ++evaluated;
+        if (n % 1024 == 0) {
+          progress("surface samples", 0.15 + 0.15 * double(n) / double(candidates.size()), n, candidates.size());
+        }
       }
     });
     std::vector<Found> found;
@@ -520,7 +530,7 @@ struct Builder {
               }
         }
         size_t n = ++done;
-        if (n % 256 == 0) progress("bricks", 0.55 + 0.45 * double(n) / double(jobs.size()));
+        if (n % 256 == 0) progress("bricks", 0.55 + 0.45 * double(n) / double(jobs.size()), n, jobs.size());
       }
     });
   }

@@ -57,7 +57,8 @@ namespace svo::files {
 // - a directory, FIFO, device or socket: refused.
 // Temporaries are named "<target>.tmp-<pid>-<n>"; those left by processes
 // that no longer run (killed with SIGKILL) are removed when the same target
-// is written again.
+// is written again. While it lives, the temporary is registered for removal
+// on SIGINT, SIGTERM or SIGHUP (install_interrupt_cleanup).
 class OutputFile {
  public:
   // Resolves and checks the target, removes stale temporaries, creates the
@@ -86,10 +87,12 @@ class OutputFile {
   const std::string& target() const { return target_; }
 
  private:
+  static constexpr size_t kNoSlot = ~size_t(0);
   [[noreturn]] void fail(const std::string& step, int err) const;
   std::string path_, target_, temporary_;
   int fd_ = -1;
   bool committed_ = false;
+  size_t slot_ = kNoSlot;  // in the table of temporaries removed on a signal
 };
 
 // The file an output at `path` replaces, after the checks of OutputFile
@@ -108,8 +111,9 @@ inline void write_file(const std::string& path, const std::string& text) { write
 size_t remove_stale_temporaries(const std::filesystem::path& dir, const std::string& prefix);
 
 // A fresh directory "<dir>/<prefix><pid>-<n>" for a run's set of outputs,
-// removed with what is left in it on destruction; stale ones of
-// dead processes are removed first.
+// removed with what is left in it on destruction, or on SIGINT, SIGTERM or
+// SIGHUP (its plain files, then itself); stale ones of dead processes are
+// removed first.
 class StagingDirectory {
  public:
   StagingDirectory(const std::filesystem::path& dir, const std::string& prefix);
@@ -120,6 +124,24 @@ class StagingDirectory {
 
  private:
   std::filesystem::path path_;
+  size_t slot_ = ~size_t(0);
 };
+
+// Installs, once per process, handlers for SIGINT, SIGTERM and SIGHUP that
+// remove every live OutputFile temporary and StagingDirectory (with
+// async-signal-safe calls only: unlink, unlinkat, getdents64, rmdir on names
+// recorded beforehand), print one line on stderr, and then die of the same
+// signal with its default action (a shell sees 130, 143 or 129). A signal
+// already ignored (a background job's SIGINT) or handled by the program is
+// left as it is. Called by the first OutputFile or StagingDirectory; a
+// command may call it earlier. Thread-safe.
+void install_interrupt_cleanup();
+
+// How many temporaries (files and staging directories) are registered now,
+// for tests.
+size_t live_temporaries();
+// What the signal handler does before it re-raises: removes every registered
+// temporary now (the registrations stay). For tests only.
+void remove_live_temporaries_for_test();
 
 }  // namespace svo::files

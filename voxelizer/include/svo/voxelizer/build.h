@@ -17,6 +17,10 @@ struct VoxelizeOptions {
   uint32_t brick_size = 8;    // lattice cells per brick edge: a power of two in [2, 32]
   // Progress: a stage name and the fraction of the whole job done, in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
+  // When set, called instead of `progress`, with the stage's items done and
+  // in all where the stage counts them (bricks), else 0 and 0. Called from
+  // worker threads too: it must be thread-safe.
+  std::function<void(const std::string& stage, double fraction, uint64_t done, uint64_t total)> progress_items;
 };
 
 struct VoxelizeReport {
