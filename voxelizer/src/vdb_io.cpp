@@ -125,7 +125,10 @@ class VdbSource : public SurfaceSource {
   using SurfaceSource::evaluate;
   void evaluate(glm::ivec3 lo, glm::ivec3 hi, std::vector<FinePoint>& out, float near_within) const override {
     out.clear();
-    auto acc = distance_->getConstAccessor();
+    // Unregistered accessors (the grid is not modified meanwhile): a
+    // registered one goes through TBB's concurrent_hash_map, whose iterator
+    // UBSan reports as a misaligned downcast (TBB 2021.8).
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> acc(distance_->tree());
     const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
     for (int z = lo.z; z <= hi.z; ++z)
       for (int y = lo.y; y <= hi.y; ++y)
@@ -267,7 +270,7 @@ VdbExport export_vdb(const octree::Octree& tree, const std::string& path, const 
   grid->setName(grid_name);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->insertMeta("creator", openvdb::StringMetadata("svo export"));
-  auto acc = grid->getAccessor();
+  openvdb::tree::ValueAccessor<openvdb::FloatTree, false> acc(grid->tree());  // unregistered: see evaluate()
   const int B = int(tree.brick_size);
   // Depth-first over the nodes with their coordinates; the finest level's
   // bricks give their B^3 lattice points.
