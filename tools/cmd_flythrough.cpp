@@ -216,7 +216,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     const std::vector<uint32_t> strip_at = strip_indices(uint32_t(cameras.size()), a->strip);
     const double first_width = render::view_width(cameras.front());
     for (uint32_t f = 0; f < cameras.size(); ++f) {
-      bar.update("frame " + std::to_string(f + 1) + "/" + std::to_string(cameras.size()), double(f) / cameras.size());
+      bar.update("rendering", f, cameras.size(), "frames");
       settings.camera = cameras[f];
       std::vector<double> times;
       render::Frame frame;
@@ -245,6 +245,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
         strip_frames.push_back(std::move(frame));
       }
     }
+    bar.update("rendering", cameras.size(), cameras.size(), "frames");
     bar.finish();
 
     // --- CSV, strip, video, summary.

@@ -144,7 +144,9 @@ void add_reference_command(CLI::App& app, int& exit_code) {
 
     // --- Trace.
     ProgressBar bar("reference");
-    settings.progress = [&bar](double f) { bar.update("tracing", f); };
+    settings.progress = [&bar, rows = uint64_t(settings.render.height)](double f) {
+      bar.update("tracing", uint64_t(f * double(rows) + 0.5), rows, "rows");
+    };
     render::Frame frame = reference::render_reference(*geometry, settings);
     bar.finish();
     render::write_colour(a->output, frame);

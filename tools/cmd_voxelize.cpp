@@ -133,7 +133,13 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     voxelizer::VoxelizeOptions options;
     options.resolution = a->resolution;
     options.brick_size = a->brick;
-    options.progress = [&bar](const std::string& stage, double f) { bar.update(stage, f); };
+    options.progress_items = [&bar](const std::string& stage, double f, uint64_t done, uint64_t total) {
+      if (total > 0) {
+        bar.update(stage, done, total, "bricks", f);
+      } else {
+        bar.update(stage, f);
+      }
+    };
     voxelizer::VoxelizeReport report;
     octree::Octree tree = voxelizer::voxelize(*source, options, &report);
     if (!material.empty()) tree.materials = {material};

@@ -1,7 +1,11 @@
 // Nothing lost (issue 7): `svo voxelize` and `svo render` killed with SIGKILL
 // in the middle of writing, or stopped by a full disk, leave the earlier
-// file of the same name byte-identical and no partial file under that name
-// (label: cli). The `svo` executable is SVO_EXE.
+// file of the same name byte-identical and no partial file under that name.
+// A clean stop (issue 21): SIGINT or SIGTERM to `svo render`, `svo voxelize`
+// or `svo flythrough` removes the run's temporaries (NAME.tmp-PID-N, the
+// flythrough's staging directory) and dies of the signal within seconds; the
+// progress bar shows a rate and the time left when forced on, and nothing
+// when stderr is not a terminal (label: cli). The `svo` executable is SVO_EXE.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -162,6 +166,193 @@ TEST(FullDisk, VoxelizeAndRenderFailCleanlyAndKeepTheEarlierFile) {
   EXPECT_EQ(std::count(seen.begin(), seen.end(), '\n'), 1) << "one line: " << seen;
   EXPECT_EQ(bytes_of(image), image_before);
   EXPECT_EQ(entries(dir.path(), "frame.exr"), std::vector<std::string>{"frame.exr"}) << "a temporary was left behind";
+}
+
+// --- A clean stop on SIGINT and SIGTERM (issue 21).
+
+// Seconds from the signal to the end of the child; its status in `status`.
+double stop_with(Child& c, int sig, int& status, std::string& seen) {
+  const auto t0 = Clock::now();
+  ::kill(c.pid, sig);
+  status = finished(c, seen);
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Waits up to `seconds` for an entry of `dir` starting with `prefix` that
+// holds at least `min_files` entries (a directory) or exists (min_files 0).
+bool wait_for_entry(const fs::path& dir, const std::string& prefix, size_t min_files, double seconds) {
+  const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+  while (Clock::now() < end) {
+    for (const auto& name : fs::is_directory(dir) ? entries(dir, prefix) : std::vector<std::string>{}) {
+      std::error_code ec;
+      if (min_files == 0) return true;
+      size_t n = 0;
+      for (fs::directory_iterator it(dir / name, ec), e; !ec && it != e; it.increment(ec)) ++n;
+      if (n >= min_files) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+TEST(Interrupt, RenderStoppedMidWriteRemovesItsTemporary) {
+  svo::testing::TempDir dir;
+  const std::string svo = dir / "in.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", svo), log), 0) << log;
+  const std::string image = dir / "frame.exr";
+  std::vector<std::string> args{"render", svo, "-o", image, "--width", "64", "--height", "48", "--cpu"};
+  ASSERT_EQ(run(args, log), 0) << log;
+  const auto before = bytes_of(image);
+  // A big output (1024 x 768 EXR, about 12 MB before compression), stopped
+  // with its temporary written and not renamed: once with SIGINT (Ctrl-C),
+  // once with SIGTERM.
+  args = {"render", svo, "-o", image, "--width", "1024", "--height", "768", "--cpu", "--view", "close"};
+  for (int sig : {SIGINT, SIGTERM}) {
+    Child c = start(args, {.stall = true});
+    std::string seen;
+    ASSERT_TRUE(wait_for(c, "stalled writing", seen, 120)) << seen;
+    ASSERT_EQ(entries(dir.path(), "frame.exr.tmp-").size(), 1u) << "the temporary is there before the signal";
+    int status = 0;
+    const double seconds = stop_with(c, sig, status, seen);
+    EXPECT_EQ(status, 128 + sig) << seen;
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_NE(seen.find(sig == SIGINT ? "svo: interrupted (SIGINT); temporary files removed"
+                                      : "svo: terminated (SIGTERM); temporary files removed"),
+              std::string::npos)
+        << seen;
+    EXPECT_EQ(entries(dir.path(), "frame.exr"), std::vector<std::string>{"frame.exr"}) << "a temporary was left";
+    EXPECT_EQ(bytes_of(image), before) << "the earlier frame.exr changed";
+  }
+}
+
+TEST(Interrupt, VoxelizeStoppedWhileWorkingOrWritingLeavesNoTemporary) {
+  svo::testing::TempDir dir;
+  const std::string out = dir / "out.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", out), log), 0) << log;
+  const auto before = bytes_of(out);
+  // While writing: the temporary holds the payload.
+  {
+    Child c = start(voxelize("grooved-cylinder", out), {.stall = true});
+    std::string seen;
+    ASSERT_TRUE(wait_for(c, "stalled writing", seen, 120)) << seen;
+    ASSERT_EQ(entries(dir.path(), "out.svo.tmp-").size(), 1u);
+    int status = 0;
+    EXPECT_LT(stop_with(c, SIGINT, status, seen), 5.0);
+    EXPECT_EQ(status, 128 + SIGINT) << seen;
+    EXPECT_EQ(entries(dir.path(), "out.svo"), std::vector<std::string>{"out.svo"}) << "a temporary was left";
+    EXPECT_EQ(bytes_of(out), before);
+  }
+  // While working (a resolution that takes seconds): stopped at once.
+  {
+    Child c = start({"voxelize", "--scene", "bumpy-sphere", "--resolution", "512", "-o", out},
+                    {.env = {{"SVO_PROGRESS", "1"}}});
+    std::string seen;
+    ASSERT_TRUE(wait_for(c, "voxelize [", seen, 60)) << seen;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    int status = 0;
+    EXPECT_LT(stop_with(c, SIGTERM, status, seen), 5.0);
+    EXPECT_EQ(status, 128 + SIGTERM) << seen;
+    EXPECT_EQ(entries(dir.path(), "out.svo"), std::vector<std::string>{"out.svo"}) << "a temporary was left";
+    EXPECT_EQ(bytes_of(out), before);
+  }
+}
+
+std::vector<std::string> flythrough(const std::string& svo, const std::string& out, const std::string& frames) {
+  return {"flythrough", svo, "-o", out, "--frames", frames, "--width", "96", "--height", "64", "--strip", "0"};
+}
+
+// The flythrough's frames go to DIR/.flythrough-tmp-PID-N/ until the run
+// ends: stopped mid-run, that directory and all the frames in it are
+// removed, and DIR holds the earlier run's set as it was.
+TEST(Interrupt, FlythroughStoppedMidRunRemovesItsStagingDirectory) {
+  svo::testing::TempDir dir;
+  const std::string svo = dir / "in.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", svo), log), 0) << log;
+  const fs::path out = dir.path() / "fly";
+  ASSERT_EQ(run(flythrough(svo, out.string(), "3"), log), 0) << log;
+  const auto csv = bytes_of(out / "frames.csv"), first = bytes_of(out / "frame_0000.png");
+  const auto earlier = entries(out, "");
+  // Mid-run, between frames: several frames staged, more to come.
+  {
+    Child c = start(flythrough(svo, out.string(), "2000"));
+    const bool staged = wait_for_entry(out, ".flythrough-tmp-", 3, 120);
+    int status = 0;
+    std::string seen;
+    EXPECT_LT(stop_with(c, SIGINT, status, seen), 5.0);
+    ASSERT_TRUE(staged) << "no frames were staged: " << seen;
+    EXPECT_EQ(status, 128 + SIGINT) << seen;
+    EXPECT_EQ(entries(out, ""), earlier) << "the staging directory or a temporary was left";
+    EXPECT_EQ(bytes_of(out / "frames.csv"), csv);
+    EXPECT_EQ(bytes_of(out / "frame_0000.png"), first);
+  }
+  // Mid-write of a frame (its own temporary inside the staging directory).
+  {
+    Child c = start(flythrough(svo, out.string(), "5"), {.stall = true});
+    std::string seen;
+    ASSERT_TRUE(wait_for(c, "stalled writing", seen, 120)) << seen;
+    EXPECT_NE(seen.find(".flythrough-tmp-"), std::string::npos) << seen;
+    int status = 0;
+    EXPECT_LT(stop_with(c, SIGTERM, status, seen), 5.0);
+    EXPECT_EQ(status, 128 + SIGTERM) << seen;
+    EXPECT_EQ(entries(out, ""), earlier) << "the staging directory or a temporary was left";
+    EXPECT_EQ(bytes_of(out / "frames.csv"), csv);
+  }
+}
+
+// A killed run's staging directory (SIGKILL: no handler runs) is removed by
+// the next run into the same DIR.
+TEST(Interrupt, StaleStagingDirectoryOfAKilledRunIsRemovedByTheNext) {
+  svo::testing::TempDir dir;
+  const std::string svo = dir / "in.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", svo), log), 0) << log;
+  const fs::path out = dir.path() / "fly";
+  Child c = start(flythrough(svo, out.string(), "2000"));
+  const bool staged = wait_for_entry(out, ".flythrough-tmp-", 2, 120);
+  ::kill(c.pid, SIGKILL);
+  std::string seen;
+  EXPECT_EQ(finished(c, seen), 128 + SIGKILL);
+  ASSERT_TRUE(staged) << seen;
+  ASSERT_EQ(entries(out, ".flythrough-tmp-").size(), 1u) << "SIGKILL leaves it";
+  ASSERT_EQ(run(flythrough(svo, out.string(), "2"), log), 0) << log;
+  EXPECT_TRUE(entries(out, ".flythrough-tmp-").empty());
+}
+
+// --- The progress bar: forced on, a rate and the time left; not a terminal, nothing.
+TEST(Progress, FlythroughShowsFramesPerSecondAndTimeLeftOnlyWhenDrawn) {
+  svo::testing::TempDir dir;
+  const std::string svo = dir / "in.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", svo), log), 0) << log;
+  svo::testing::Outcome o = svo::testing::run_svo(flythrough(svo, dir / "fly", "12"), {.env = {{"SVO_PROGRESS", "1"}}});
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.err.find("\rflythrough ["), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("rendering 12/12"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("frames/s"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find(" left"), std::string::npos) << o.err;
+  // stderr is a pipe here: no bar.
+  o = svo::testing::run_svo(flythrough(svo, dir / "fly", "12"));
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(o.err, "");
+}
+
+TEST(Progress, VoxelizeAndReferenceShowTheirRates) {
+  svo::testing::TempDir dir;
+  svo::testing::Outcome o =
+      svo::testing::run_svo({"voxelize", "--scene", "bumpy-sphere", "--resolution", "128", "-o", dir / "a.svo"},
+                            {.env = {{"SVO_PROGRESS", "1"}}});
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.err.find("bricks/s"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find(" elapsed"), std::string::npos) << o.err;
+  o = svo::testing::run_svo({"reference", "--scene", "bumpy-sphere", "--octree", dir / "a.svo", "-o", dir / "r.exr",
+                             "--width", "64", "--height", "64", "--spp", "4"},
+                            {.env = {{"SVO_PROGRESS", "1"}}});
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.err.find("tracing 64/64"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("rows/s"), std::string::npos) << o.err;
 }
 
 }  // namespace
