@@ -1,17 +1,29 @@
-// svo view: an interactive window on a .svo file. Each frame the cone tracer
-// renders the view (GpuRenderer, with its display pass: 8-bit sRGB) and the
-// swapchain shows it stretched to the window. Frames are drawn when something
-// changed, not continuously, so an idle viewer costs nothing.
+// svo view: an interactive window on an octree, or on a mesh or built-in
+// scene voxelized first. Each frame the cone tracer renders the view (with
+// its display pass: 8-bit sRGB) and the swapchain shows it stretched to the
+// window. Frames are drawn when something changed, not continuously, so an
+// idle viewer costs nothing; while the camera moves they are drawn smaller,
+// sized to a frame-time budget, and the view is drawn again at full size
+// once it stops.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <span>
 #include <sstream>
 
 #include "commands.h"
+#include "memory.h"
+#include "progress.h"
+#include "source_options.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
@@ -19,6 +31,7 @@
 #include "svo/render/renderer.h"
 #include "svo/render/vk_context.h"
 #include "svo/render/vk_swapchain.h"
+#include "svo/voxelizer/build.h"
 #include "view_options.h"
 #include "view_orbit.h"
 #include "view_window.h"
@@ -28,7 +41,8 @@ namespace svo::tools {
 namespace {
 
 struct ViewerOptions {
-  std::string path;
+  SourceOptions source;  // the positional FILE (an octree or a mesh), --scene, --scene-file
+  uint32_t resolution = 256;
   int width = 800, height = 600;
   double scale = 0;  // 0: automatic
   std::string device;
@@ -37,17 +51,23 @@ struct ViewerOptions {
   bool shadows = false;
   int frames = 0;
   std::string screenshot;
+  std::string screenshot_dir = ".";
+  double budget_ms = 50;
   bool validate = false;
   LightingOptions lighting;
   uint32_t spp = 4;
 };
 
-const char* kControls =
-    "Controls: left-drag orbit, right- or middle-drag pan, wheel or +/- zoom (by factors: deep zoom works),\n"
+// The mesh formats voxelizer::read_mesh reads, by extension.
+constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+
+const char* kKeys =
+    "Keys: left-drag orbit, right- or middle-drag pan, wheel or +/- zoom (by factors: deep zoom works),\n"
     "F orbit around the surface under the cursor, 1-4 mode (prefiltered, nearest, alpha, mip),\n"
-    "S shadows on/off, R back to the far view, Esc or Q quit.\n"
-    "The title shows the mode, the time of the passes (GPU timestamps, or the native host's) and the wall time\n"
-    "of the frame. Without a GPU, frames are rendered natively on the CPU and presented through lavapipe.";
+    "S shadows on/off, R back to the far view, P or F12 screenshot at the window's size\n"
+    "(svo-view-NNNN.png, never overwritten; its name is printed), H or F1 this list, Esc or Q quit.";
+
+const char* kTitleKeys = "H keys, P screenshot, Q quit";
 
 std::string format_ms(double ms) {
   char text[32];
@@ -55,21 +75,129 @@ std::string format_ms(double ms) {
   return text;
 }
 
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Refuses what svo view cannot open before any work: a file that is neither
+// an octree (.svo) nor a mesh it can voxelize, mesh options given with an
+// octree, not exactly one of FILE, --scene and --scene-file.
+// @throw std::invalid_argument, one line naming the accepted types.
+void check_input(const ViewerOptions& o, bool resolution_given) {
+  const SourceOptions& s = o.source;
+  check_source_options(s, "view");
+  if ((o.resolution & (o.resolution - 1)) != 0) {
+    throw std::invalid_argument("view: --resolution " + std::to_string(o.resolution) + " is not a power of two");
+  }
+  if (s.input.empty()) return;
+  const std::string ext = lower_extension(s.input);
+  if (ext == ".svo") {
+    if (resolution_given || !s.colour.empty() || s.roughness >= 0) {
+      throw std::invalid_argument("view: " + s.input +
+                                  " is an octree: --resolution, --colour and --roughness apply to a mesh");
+    }
+  } else if (std::find(std::begin(kMeshExtensions), std::end(kMeshExtensions), ext) == std::end(kMeshExtensions)) {
+    throw std::invalid_argument("view: " + s.input +
+                                ": not a file svo view opens (an octree: .svo; a mesh, voxelized first: .obj, .ply, "
+                                ".off, .stl, .gltf, .glb)");
+  }
+}
+
+// The octree to look at (check_input first): the .svo file itself, or the
+// mesh or scene voxelized at --resolution with a progress bar (on a
+// terminal) and a one-line summary on stdout.
+// @throw what load_svo, read_mesh and voxelize throw; std::runtime_error
+//        when the voxelizer's estimate exceeds the memory available.
+octree::Octree load_octree(const ViewerOptions& o) {
+  const SourceOptions& s = o.source;
+  if (!s.input.empty() && lower_extension(s.input) == ".svo") return octree::load_svo(s.input);
+  const std::string what = source_name(s);
+  std::unique_ptr<voxelizer::SurfaceSource> source;
+  if (!s.scene.empty()) {
+    source = make_scene_source(s, /*all_octaves=*/false);
+  } else {
+    source = voxelizer::mesh_source(
+        read_source_mesh(s, [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; }));
+  }
+  const double limit = available_memory_mb();
+  const double estimate = voxelizer::estimate_memory_bytes(*source, o.resolution, 8) / (1024.0 * 1024.0);
+  if (limit > 0 && estimate > limit) {
+    throw std::runtime_error("view: " + what + ": resolution " + std::to_string(o.resolution) + " needs about " +
+                             std::to_string(int64_t(estimate)) + " MiB, above the " + std::to_string(int64_t(limit)) +
+                             " MiB available (try a smaller --resolution)");
+  }
+  ProgressBar bar("voxelize");
+  voxelizer::VoxelizeOptions options;
+  options.resolution = o.resolution;
+  options.progress = [&bar](const std::string& stage, double f) { bar.update(stage, f); };
+  voxelizer::VoxelizeReport report;
+  octree::Octree tree = voxelizer::voxelize(*source, options, &report);
+  bar.finish();
+  const std::string input = !s.scene.empty()        ? "--scene " + s.scene
+                            : !s.scene_file.empty() ? "--scene-file " + s.scene_file
+                                                    : s.input;
+  const std::string stem =
+      !s.scene.empty() ? s.scene : std::filesystem::path(s.input.empty() ? s.scene_file : s.input).stem().string();
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f", report.seconds_total);
+  std::cout << what << ": voxelized at " << o.resolution << "^3 in " << seconds << " s, " << tree.voxel_count()
+            << " voxels (to keep them: svo voxelize " << input << " --resolution " << o.resolution << " -o " << stem
+            << ".svo)" << std::endl;
+  return tree;
+}
+
+// Reserves the first free DIR/svo-view-NNNN.png from `next` on, by creating
+// it empty and exclusively: an existing file is never replaced, and two
+// viewers never take the same name.
+// @throw std::runtime_error naming the file when it cannot be created.
+std::string reserve_screenshot(const std::string& dir, int& next) {
+  for (; next <= 9999; ++next) {
+    char name[32];
+    std::snprintf(name, sizeof name, "svo-view-%04d.png", next);
+    const std::string path = dir == "." ? std::string(name) : (std::filesystem::path(dir) / name).string();
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      ::close(fd);
+      ++next;
+      return path;
+    }
+    if (errno != EEXIST) throw std::runtime_error("screenshot " + path + ": " + std::strerror(errno));
+  }
+  throw std::runtime_error("screenshot: " + dir + " holds svo-view-0001.png to svo-view-9999.png already");
+}
+
 }  // namespace
 
 void add_view_command(CLI::App& app, int& exit_code) {
-  auto* cmd = app.add_subcommand("view", "Look at a .svo file in a window (GLFW, Vulkan swapchain)");
-  cmd->footer(kControls);
+  auto* cmd = app.add_subcommand(
+      "view", "Look at an octree (.svo), or a mesh or built-in scene voxelized first, in a window (GLFW, Vulkan)");
+  cmd->footer(kKeys);
   auto opt = std::make_shared<ViewerOptions>();
-  cmd->add_option("FILE", opt->path, "The octree (.svo)")->required();
+  add_source_options(*cmd, opt->source);
+  cmd->get_option("input")->description(
+      "An octree (.svo), or a mesh (OBJ, PLY, OFF, STL, glTF) voxelized first at --resolution, with a progress "
+      "bar");
+  cmd->add_option("--resolution", opt->resolution,
+                  "A mesh or --scene is voxelized at this many finest cells per axis: a power of two")
+      ->default_val(256)
+      ->check(CLI::Range(16u, 4096u))
+      ->group("Input");
   auto* window = cmd->add_option_group("Window");
   window->add_option("--width", opt->width, "Window width in pixels")->default_val(800)->check(CLI::Range(16, 8192));
   window->add_option("--height", opt->height, "Window height in pixels")->default_val(600)->check(CLI::Range(16, 8192));
   window
       ->add_option("--scale", opt->scale,
-                   "Render at this fraction of the window size and stretch it (default: 1 on a GPU, 0.5 on the "
-                   "native host or a Vulkan CPU device such as lavapipe)")
+                   "Render the still view at this fraction of the window size and stretch it (default: 1 on a GPU, "
+                   "0.5 on the native host or a Vulkan CPU device such as lavapipe)")
       ->check(CLI::Range(0.05, 1.0));
+  window
+      ->add_option("--frame-budget", opt->budget_ms,
+                   "While the camera moves, frames are drawn smaller so that one takes about this many ms; the "
+                   "still view is drawn again at --scale (0: always at --scale)")
+      ->default_val(50)
+      ->check(CLI::Range(0.0, 10000.0));
   auto* view = cmd->add_option_group("View");
   view->add_option("--view", opt->view, "Starting camera preset: far, mid or close")
       ->default_val("far")
@@ -87,23 +215,38 @@ void add_view_command(CLI::App& app, int& exit_code) {
                 "Enable the Khronos validation layer; any message ends the viewer with exit 1");
   run->add_option("--frames", opt->frames, "Render this many frames, then exit 0 (for tests; default 0: until closed)")
       ->check(CLI::Range(0, 1000000));
-  run->add_option("--screenshot", opt->screenshot, "On exit, write the last rendered frame here (.png or .exr)");
+  run->add_option("--screenshot", opt->screenshot,
+                  "On exit, write the view at the window's size here (.png or .exr; replaced if it exists)");
+  run->add_option("--screenshot-dir", opt->screenshot_dir,
+                  "Where the P key writes svo-view-NNNN.png (the first free number; default: the current directory)")
+      ->check(CLI::ExistingDirectory);
   add_lighting_options(*cmd, opt->lighting);
   cmd->add_option("--spp", opt->spp, "Samples per pixel of the forward-shading pass (with --env or --material)")
       ->check(CLI::Range(1u, 4096u))
       ->group("Lighting");
 
-  cmd->callback([opt, &exit_code] {
+  cmd->callback([opt, cmd, &exit_code] {
     if (!opt->screenshot.empty()) {
       render::image_format(opt->screenshot);
       render::check_writable_output(opt->screenshot);
     }
-    octree::Octree tree = octree::load_svo(opt->path);
+    if (::access(opt->screenshot_dir.c_str(), W_OK) != 0) {
+      throw std::invalid_argument("view: --screenshot-dir " + opt->screenshot_dir + " is not writable");
+    }
+    check_input(*opt, cmd->count("--resolution") > 0);
     auto fail = [](const std::string& what) { throw std::runtime_error("view: " + what); };
+    // No display: one line now, not after voxelizing.
+    try {
+      Window::check_display();
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+    octree::Octree tree = load_octree(*opt);
+    const std::string name = opt->source.scene.empty() ? source_name(opt->source) : opt->source.scene;
 
     std::unique_ptr<Window> win;
     try {
-      win = std::make_unique<Window>("svo view " + opt->path, opt->width, opt->height);
+      win = std::make_unique<Window>("svo view " + name, opt->width, opt->height);
     } catch (const std::exception& e) {
       fail(e.what());
     }
@@ -132,7 +275,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
     }
     render::Renderer& renderer = *made;
     if (shades_forward(opt->lighting, tree)) renderer.add_pass(render::make_pass("forward"));
-    double scale = opt->scale > 0 ? opt->scale : native || context.info().type == "cpu" ? 0.5 : 1.0;
+    const double scale = opt->scale > 0 ? opt->scale : native || context.info().type == "cpu" ? 0.5 : 1.0;
 
     render::RenderSettings settings;
     settings.mode = *render::parse_mode(opt->mode);
@@ -142,19 +285,62 @@ void add_view_command(CLI::App& app, int& exit_code) {
     float aspect = float(fb_width) / float(std::max(fb_height, 1u));
     Orbit orbit(render::view_preset(tree, opt->view, aspect), tree.size);
 
+    // A frame of the current view at `width` x `height` (for the screen
+    // with the display pass, for files without).
+    auto render_view = [&](uint32_t width, uint32_t height, bool display) {
+      render::RenderSettings s = settings;
+      s.width = std::max(1u, width);
+      s.height = std::max(1u, height);
+      s.camera = orbit.camera();
+      s.display = display;
+      s.gbuffer = false;
+      render::Frame f = renderer.render(s);
+      check_validation();
+      return f;
+    };
+    int next_shot = 1;
+    auto screenshot = [&](uint32_t width, uint32_t height) {
+      std::string path;
+      try {
+        path = reserve_screenshot(opt->screenshot_dir, next_shot);
+        render::write_colour(path, render_view(width, height, false));
+        std::cout << "screenshot " << path << " (" << width << " x " << height << ")" << std::endl;
+      } catch (const std::exception& e) {
+        std::error_code ignored;
+        if (!path.empty()) std::filesystem::remove(path, ignored);
+        std::cerr << "svo: view: screenshot not written: " << e.what() << std::endl;
+      }
+    };
+
     render::Frame frame;
     settings.display = true;
     auto pixels = [&frame] {  // the display pass's RGBA words as bytes (little-endian: R first)
       return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(frame.display.data()), frame.display.size() * 4);
     };
-    bool dirty = true, shown = false, focus = false, minimised = false;
+    using Clock = std::chrono::steady_clock;
+    // While the camera moves (and for kSettle after) frames are drawn at
+    // `moving_scale`, chosen from the measured cost of a pixel so that a
+    // frame takes about the budget; then the still view at `scale`.
+    const auto kSettle = std::chrono::milliseconds(200);
+    Clock::time_point last_motion{};
+    double moving_scale = scale, ms_per_pixel = -1, present_ms = 0;
+    bool dirty = true, shown = false, focus = false, minimised = false, refine = false;
+    uint32_t shot_width = fb_width, shot_height = fb_height;  // the window's last size not minimised
     int frames = 0;
     while (true) {
-      // Block for events while there is nothing new to draw (or nowhere to draw it).
-      Input in = win->poll(/*wait=*/minimised || (!dirty && shown && opt->frames == 0));
+      // Block for events while there is nothing new to draw (or nowhere to
+      // draw it); with a reduced frame on screen, only until it is time to
+      // draw the still view.
+      Input in;
+      if (minimised || (!dirty && shown && opt->frames == 0)) {
+        auto left = std::chrono::duration<double>(last_motion + kSettle - Clock::now()).count();
+        in = refine && !minimised ? (left > 0 ? win->poll_for(left) : win->poll(false)) : win->poll(true);
+      } else {
+        in = win->poll(false);
+      }
       uint32_t win_width = 0, win_height = 0;
       win->window_size(win_width, win_height);
-      bool quit = false;
+      bool quit = false, shot = false, motion = false;
       for (uint32_t key : in.keys) {
         switch (key) {
           case Window::kQuit:
@@ -162,9 +348,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
             break;
           case Window::kZoomIn:
             orbit.zoom(0.8);
+            motion = true;
             break;
           case Window::kZoomOut:
             orbit.zoom(1.25);
+            motion = true;
             break;
           case Window::kMode1:
           case Window::kMode2:
@@ -183,13 +371,23 @@ void add_view_command(CLI::App& app, int& exit_code) {
           case Window::kFocus:
             focus = true;
             break;
+          case Window::kScreenshot:
+            shot = true;
+            break;
+          case Window::kHelp:
+            std::cout << kKeys << std::endl;
+            break;
         }
-        dirty = true;
+        if (key != Window::kScreenshot && key != Window::kHelp) dirty = true;
       }
       if (quit || win->closing()) break;
-      if (in.rotate_x != 0 || in.rotate_y != 0) orbit.rotate(in.rotate_x, in.rotate_y, win_height), dirty = true;
-      if (in.pan_x != 0 || in.pan_y != 0) orbit.pan(in.pan_x, in.pan_y, win_height), dirty = true;
-      if (in.scroll != 0) orbit.zoom(std::pow(0.85, in.scroll)), dirty = true;
+      if (in.rotate_x != 0 || in.rotate_y != 0) orbit.rotate(in.rotate_x, in.rotate_y, win_height), motion = true;
+      if (in.pan_x != 0 || in.pan_y != 0) orbit.pan(in.pan_x, in.pan_y, win_height), motion = true;
+      if (in.scroll != 0) orbit.zoom(std::pow(0.85, in.scroll)), motion = true;
+      const auto now = Clock::now();
+      if (motion) last_motion = now, dirty = true;
+      const bool moving = opt->budget_ms > 0 && now - last_motion < kSettle;
+      if (refine && !moving) dirty = true;  // the still view, at full size
 
       win->framebuffer_size(fb_width, fb_height);
       minimised = fb_width == 0 || fb_height == 0;
@@ -197,6 +395,8 @@ void add_view_command(CLI::App& app, int& exit_code) {
         dirty = true;  // redraw when the window comes back
         continue;
       }
+      shot_width = fb_width, shot_height = fb_height;
+      if (shot) screenshot(fb_width, fb_height);
       VkExtent2D extent = swapchain.extent();
       if (in.resized || extent.width != fb_width || extent.height != fb_height) {
         swapchain.resize(fb_width, fb_height);
@@ -205,9 +405,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
       if (opt->frames > 0) dirty = true;
 
       if (dirty) {
-        auto start = std::chrono::steady_clock::now();
-        settings.width = std::max(1u, uint32_t(std::lround(fb_width * scale)));
-        settings.height = std::max(1u, uint32_t(std::lround(fb_height * scale)));
+        auto start = Clock::now();
+        const double frame_scale = moving ? moving_scale : scale;
+        settings.width = std::max(1u, uint32_t(std::lround(fb_width * frame_scale)));
+        settings.height = std::max(1u, uint32_t(std::lround(fb_height * frame_scale)));
         settings.camera = orbit.camera();
         settings.gbuffer = focus;
         frame = renderer.render(settings);
@@ -226,6 +427,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
           }
         }
         focus = false;
+        const double render_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         bool ok = swapchain.present(pixels(), frame.width, frame.height);
         if (!ok) {
           win->framebuffer_size(fb_width, fb_height);
@@ -233,13 +435,23 @@ void add_view_command(CLI::App& app, int& exit_code) {
           if (fb_width > 0 && fb_height > 0) swapchain.present(pixels(), frame.width, frame.height);
         }
         check_validation();
-        double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        const double wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        // The cost of a pixel and of presenting, smoothed, size the next moving frame.
+        const double pixel_ms = render_ms / (double(frame.width) * frame.height);
+        ms_per_pixel = ms_per_pixel < 0 ? pixel_ms : 0.5 * (ms_per_pixel + pixel_ms);
+        present_ms = frames == 0 ? wall_ms - render_ms : 0.5 * (present_ms + wall_ms - render_ms);
+        if (opt->budget_ms > 0 && fb_width > 0 && fb_height > 0) {
+          const double budget = std::max(opt->budget_ms - present_ms, 0.3 * opt->budget_ms);
+          const double fit = std::sqrt(budget / ms_per_pixel / (double(fb_width) * fb_height));
+          moving_scale = std::clamp(fit, std::min(scale, 64.0 / std::min(fb_width, fb_height)), scale);
+        }
         std::ostringstream title;
-        title << "svo view " << opt->path << " | " << render::mode_name(settings.mode)
+        title << "svo view " << name << " | " << render::mode_name(settings.mode)
               << (settings.shadows ? " + shadows" : "") << " | " << (native ? "native " : "GPU ")
-              << (frame.ms >= 0 ? format_ms(frame.ms) + " ms" : "n/a") << ", frame " << format_ms(wall_ms) << " ms | "
-              << frame.width << "x" << frame.height;
+              << (frame.ms >= 0 ? format_ms(frame.ms) + " ms" : "n/a") << ", " << frame.width << "x" << frame.height
+              << ", " << format_ms(1000.0 / std::max(wall_ms, 1e-3)) << " fps | " << kTitleKeys;
         win->set_title(title.str());
+        refine = moving && frame.width < uint32_t(std::lround(fb_width * scale));
         dirty = false;
         shown = true;
         ++frames;
@@ -249,7 +461,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
         check_validation();
       }
     }
-    if (!opt->screenshot.empty() && frames > 0) render::write_colour(opt->screenshot, frame);
+    if (!opt->screenshot.empty() && frames > 0) {
+      render::write_colour(opt->screenshot, render_view(shot_width, shot_height, false));
+    }
     check_validation();
     exit_code = 0;
   });

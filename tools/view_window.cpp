@@ -16,9 +16,8 @@ void on_error(int, const char* description) { g_glfw_error = description ? descr
 
 Window* self(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPointer(w)); }
 
-}  // namespace
-
-Window::Window(const std::string& title, int width, int height) {
+// glfwInit and the Vulkan loader's presence; GLFW stays initialised on success.
+void init_glfw() {
   glfwSetErrorCallback(on_error);
   if (!glfwInit()) {
     throw std::runtime_error("cannot open a window: " + g_glfw_error +
@@ -29,6 +28,17 @@ Window::Window(const std::string& title, int width, int height) {
     throw std::runtime_error("cannot open a window: GLFW finds no Vulkan loader with surface support (" + g_glfw_error +
                              ")");
   }
+}
+
+}  // namespace
+
+void Window::check_display() {
+  init_glfw();
+  glfwTerminate();
+}
+
+Window::Window(const std::string& title, int width, int height) {
+  init_glfw();
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
   window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window_) {
@@ -100,6 +110,14 @@ Window::Window(const std::string& title, int width, int height) {
       case GLFW_KEY_F:
         keys.push_back(kFocus);
         break;
+      case GLFW_KEY_P:
+      case GLFW_KEY_F12:
+        if (action == GLFW_PRESS) keys.push_back(kScreenshot);
+        break;
+      case GLFW_KEY_H:
+      case GLFW_KEY_F1:
+        if (action == GLFW_PRESS) keys.push_back(kHelp);
+        break;
       default:
         break;
     }
@@ -130,6 +148,15 @@ Input Window::poll(bool wait) {
   } else {
     glfwPollEvents();
   }
+  return take_input();
+}
+
+Input Window::poll_for(double seconds) {
+  glfwWaitEventsTimeout(seconds);
+  return take_input();
+}
+
+Input Window::take_input() {
   Input input = pending_;
   pending_ = Input{};
   pending_.cursor_x = input.cursor_x;

@@ -35,10 +35,18 @@ class Window {
     kMode2,
     kMode3,
     kMode4,
-    kShadows,  // S
-    kReset,    // R
-    kFocus,    // F
+    kShadows,     // S
+    kReset,       // R
+    kFocus,       // F
+    kScreenshot,  // P or F12
+    kHelp,        // H or F1
   };
+
+  // Whether a window can be opened at all (GLFW initialises: a display, a
+  // Vulkan loader with surface support), without opening one, so that long
+  // work before the window (voxelizing a mesh) is not done in vain.
+  // @throw std::runtime_error as the constructor.
+  static void check_display();
 
   // Opens a window of width x height screen coordinates.
   // @throw std::runtime_error "cannot open a window: <GLFW's reason> (...)"
@@ -55,6 +63,8 @@ class Window {
   // Processes window events and returns the input gathered since the last
   // call; with `wait` blocks until at least one event arrives.
   Input poll(bool wait);
+  // The same, blocking at most `seconds` (> 0) for the first event.
+  Input poll_for(double seconds);
 
   bool closing() const;
   void set_title(const std::string& title);
@@ -64,6 +74,8 @@ class Window {
   void window_size(uint32_t& width, uint32_t& height) const;
 
  private:
+  Input take_input();  // what gathered since the last call
+
   GLFWwindow* window_ = nullptr;
   Input pending_;
   double last_x_ = 0, last_y_ = 0;  // cursor position at the previous event

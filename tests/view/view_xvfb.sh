@@ -1,7 +1,8 @@
 #!/bin/sh
 # svo view under Xvfb: two short runs (far prefiltered; close view, mip mode,
-# shadows), each must exit 0 with validation on and save a picture that is
-# neither empty nor uniform. Then, where xdotool is installed, the keyboard:
+# shadows), each must exit 0 with validation on and save a picture at the
+# window's size (200 x 150; frames are rendered at 100 x 75) that is neither
+# empty nor uniform. Then, where xdotool is installed, the keyboard:
 # key 3 must switch to alpha mode (the title says so) and Q must quit with exit 0.
 # usage: view_xvfb.sh SVO IMAGE_CHECK OCTREE OUT_DIR
 set -u
@@ -23,7 +24,7 @@ run() {  # NAME ARGS...: render 3 frames into a 200 x 150 window at half scale
     echo "svo view ($name) exited with $status"
     exit 1
   fi
-  "$check" "$shot" 100 75 || exit 1
+  "$check" "$shot" 200 150 || exit 1
 }
 run far
 run close --view close --mode mip --shadows
@@ -47,7 +48,7 @@ if command -v xdotool >/dev/null 2>&1; then
     [ $status -eq 0 ] || { echo "svo view exited with $status after Q"; exit 1; }
     echo "title after key 3: alpha; Q quit with exit 0"
   ' || exit 1
-  "$check" "$dir/view_keys.png" 100 75 || exit 1
+  "$check" "$dir/view_keys.png" 200 150 || exit 1
 else
   echo "xdotool not found: keyboard part skipped"
 fi
