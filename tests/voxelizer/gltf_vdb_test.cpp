@@ -331,6 +331,18 @@ TEST(GltfHostile, FilesThatAreNotRegular) {
   expect_refused(temp_dir(), "directory");
 }
 
+// tinygltf 2.7 hands its image loader a buffer view's bytes without
+// checking the view against its buffer (found by the gltf fuzz target):
+// images are read by us, the range checked.
+TEST(GltfHostile, ImageViewBeyondItsBuffer) {
+  Doc d = textured_quad(true);
+  d.j["bufferViews"][3]["byteLength"] = 100000;
+  expect_refused(d.write_glb("image_view.glb"), "image 0: its view's bytes 92 + 100000 run past its buffer's");
+  d = textured_quad(true);
+  d.j["images"][0] = {{"uri", "data:image/png;base64,%%%"}};
+  expect_refused(d.write_glb("image_uri.glb"), "image 0: a data URI that is not base64");
+}
+
 TEST(GltfHostile, TextureBudget) {
   const fs::path path = textured_quad(true).write_glb("budget.glb");
   voxelizer::MeshOptions options;

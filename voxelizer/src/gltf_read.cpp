@@ -38,8 +38,8 @@ uint32_t le32(const std::string& s, size_t at) {
 }
 
 // The GLB container (glTF 2.0 section 4.4): returns "" or the problem; sets
-// the JSON chunk.
-std::string screen_glb(const std::string& bytes, std::string& json) {
+// the JSON chunk and the BIN chunk (empty when there is none).
+std::string screen_glb(const std::string& bytes, std::string& json, std::string& bin) {
   if (bytes.size() < 20) return "GLB file of " + std::to_string(bytes.size()) + " bytes, shorter than its header";
   if (bytes.compare(0, 4, "glTF") != 0) return "GLB magic is not \"glTF\"";
   if (le32(bytes, 4) != 2) return "GLB version " + std::to_string(le32(bytes, 4)) + ", expected 2";
@@ -54,13 +54,14 @@ std::string screen_glb(const std::string& bytes, std::string& json) {
   }
   json = bytes.substr(20, json_length);
   uint64_t at = 20 + json_length;
-  if (at + 8 <= length) {
-    const uint64_t bin_length = le32(bytes, at);
-    if (le32(bytes, at + 4) != 0x004E4942u) return "GLB second chunk is not BIN";
-    if (at + 8 + bin_length > length) {
-      return "GLB BIN chunk of " + std::to_string(bin_length) + " bytes runs past the file's " + std::to_string(length);
-    }
+  if (at == length) return "";
+  if (at + 8 > length) return "GLB ends inside a chunk header";
+  const uint64_t bin_length = le32(bytes, at);
+  if (le32(bytes, at + 4) != 0x004E4942u) return "GLB second chunk is not BIN";
+  if (at + 8 + bin_length > length) {
+    return "GLB BIN chunk of " + std::to_string(bin_length) + " bytes runs past the file's " + std::to_string(length);
   }
+  bin = bytes.substr(at + 8, bin_length);
   return "";
 }
 
@@ -86,11 +87,11 @@ int json_depth(const std::string& text) {
 
 // The JSON checked before tinygltf parses it: nesting, syntax, version and
 // required extensions.
-void screen_json(const std::string& path, const std::string& text) {
+nlohmann::json screen_json(const std::string& path, const std::string& text) {
   if (int d = json_depth(text); d > kMaxJsonDepth) {
     fail(path, "JSON nested " + std::to_string(d) + " deep, more than " + std::to_string(kMaxJsonDepth));
   }
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) fail(path, "not valid JSON (glTF 2.0 expected)");
   if (!j.is_object()) fail(path, "the JSON is not an object (glTF 2.0 expected)");
   auto asset = j.find("asset");
@@ -107,6 +108,7 @@ void screen_json(const std::string& path, const std::string& text) {
                      "e.g. gltf-transform)");
     }
   }
+  return j;
 }
 
 // What tinygltf may read besides the file: external buffers and images,
@@ -136,12 +138,41 @@ bool write_whole(std::string* err, const std::string&, const std::vector<unsigne
   if (err) *err += "writing is not allowed";
   return false;
 }
-// Keeps the encoded bytes: decoded later through read_texture's budgets.
-bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
-                int size, void*) {
-  image->image.assign(bytes, bytes + std::max(size, 0));
-  image->as_is = true;
+// The bytes of a base64 text (RFC 4648, padding optional); false on any
+// other character.
+bool decode_base64(const std::string& text, size_t from, std::string& out) {
+  uint32_t acc = 0;
+  int bits = 0;
+  for (size_t i = from; i < text.size(); ++i) {
+    const char c = text[i];
+    int v = c >= 'A' && c <= 'Z'   ? c - 'A'
+            : c >= 'a' && c <= 'z' ? c - 'a' + 26
+            : c >= '0' && c <= '9' ? c - '0' + 52
+            : c == '+'             ? 62
+            : c == '/'             ? 63
+            : c == '='             ? -2
+                                   : -1;
+    if (v == -2) break;
+    if (v < 0) return false;
+    acc = (acc << 6) | uint32_t(v), bits += 6;
+    if (bits >= 8) bits -= 8, out += char((acc >> bits) & 0xFF);
+  }
   return true;
+}
+
+// "%20" and the like decoded (glTF URIs are RFC 3986).
+std::string percent_decode(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+        std::isxdigit(uint8_t(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
 }
 
 // One accessor, every range checked: element i, component c as a double
@@ -278,6 +309,7 @@ struct Reader {
   std::string path;
   const MeshOptions& options;
   const tinygltf::Model& model;
+  const nlohmann::json& images;  // the file's "images", kept from tinygltf (see read_gltf)
   MeshArrays out;
   // (image, baseColorFactor) -> texture slot; the factor is baked in.
   std::map<std::pair<int, std::array<float, 3>>, int> texture_slots;
@@ -311,9 +343,9 @@ struct Reader {
            "names texture " + std::to_string(texture) + ", but the file has " + std::to_string(model.textures.size()));
     }
     const int image = model.textures[size_t(texture)].source;
-    if (image < 0 || size_t(image) >= model.images.size()) {
+    if (image < 0 || size_t(image) >= images.size()) {
       fail(path, "texture " + std::to_string(texture) + " names image " + std::to_string(image) +
-                     ", but the file has " + std::to_string(model.images.size()) +
+                     ", but the file has " + std::to_string(images.size()) +
                      " (KHR_texture_basisu and WebP images are not supported)");
     }
     auto key = std::make_pair(image, std::array<float, 3>{factor.x, factor.y, factor.z});
@@ -433,6 +465,49 @@ struct Reader {
   }
 };
 
+// The encoded bytes of image `im` (a JSON object of the file's "images"):
+// its buffer view's, every range checked; a data URI's, base64-decoded; or
+// a file's beside the glTF (a regular file, within the read budget).
+std::string image_bytes(const std::string& path, const tinygltf::Model& model, const nlohmann::json& im,
+                        const std::string& uri, const std::string& name, const std::string& dir, ReadBudget& budget) {
+  if (!im.is_object()) fail(path, name + " is not a JSON object");
+  if (auto v = im.find("bufferView"); v != im.end()) {
+    if (!v->is_number_unsigned() || v->get<uint64_t>() >= model.bufferViews.size()) {
+      fail(path,
+           name + " names buffer view " + v->dump() + ", but the file has " + std::to_string(model.bufferViews.size()));
+    }
+    const tinygltf::BufferView& view = model.bufferViews[v->get<size_t>()];
+    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
+      fail(path, name + ": its view names buffer " + std::to_string(view.buffer) + ", but the file has " +
+                     std::to_string(model.buffers.size()));
+    }
+    const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
+    if (view.byteLength > data.size() || view.byteOffset > data.size() - view.byteLength) {
+      fail(path, name + ": its view's bytes " + std::to_string(view.byteOffset) + " + " +
+                     std::to_string(view.byteLength) + " run past its buffer's " + std::to_string(data.size()));
+    }
+    return std::string(reinterpret_cast<const char*>(data.data()) + view.byteOffset, view.byteLength);
+  }
+  if (uri.rfind("data:", 0) == 0) {
+    const size_t comma = uri.find(',');
+    std::string out;
+    if (comma == std::string::npos || uri.rfind(";base64", comma) == std::string::npos ||
+        !decode_base64(uri, comma + 1, out)) {
+      fail(path, name + ": a data URI that is not base64");
+    }
+    return out;
+  }
+  if (uri.empty()) fail(path, name + " has neither a bufferView nor a uri");
+  const std::string file = (std::filesystem::path(dir) / percent_decode(uri)).string();
+  try {
+    std::string out = files::read_bounded(file, budget.left, "an image");
+    budget.left -= out.size();
+    return out;
+  } catch (const files::FileError& e) {
+    fail(path, name + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 bool is_gltf_path(const std::string& path) {
@@ -448,33 +523,65 @@ MeshArrays read_gltf(const std::string& path, const MeshOptions& options) {
     throw std::runtime_error(e.what());
   }
   const bool binary = bytes.compare(0, 4, "glTF") == 0;
-  std::string json = bytes;
+  std::string json = bytes, bin;
   if (binary) {
-    if (std::string why = screen_glb(bytes, json); !why.empty()) fail(path, why);
+    if (std::string why = screen_glb(bytes, json, bin); !why.empty()) fail(path, why);
   } else if (screen::lower_extension(path) == ".glb") {
     fail(path, "not a GLB file (no \"glTF\" magic)");
   }
-  screen_json(path, json);
+  nlohmann::json doc = screen_json(path, json);
+  // The images are not given to tinygltf: 2.7 hands its image loader a
+  // buffer view's bytes without checking the view against its buffer (a
+  // heap overread found by the gltf fuzz target). We read them below.
+  nlohmann::json images = nlohmann::json::array();
+  if (auto it = doc.find("images"); it != doc.end()) {
+    if (it->is_array()) images = *it;
+    doc.erase(it);
+  }
+  json = doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (binary) {
+    // The GLB again around the new JSON. tinygltf 2.7 takes the BIN chunk
+    // to run to the file's end, its 8-byte header included: 8 zero bytes
+    // after the end keep its reads of a buffer that long inside our memory.
+    if (!bin.empty()) {
+      for (auto& b : doc.value("buffers", nlohmann::json::array())) {
+        if (b.is_object() && !b.contains("uri") && b.contains("byteLength") && b["byteLength"].is_number_unsigned() &&
+            b["byteLength"].get<uint64_t>() > bin.size()) {
+          fail(path, "the GLB buffer's byteLength " + b["byteLength"].dump() + " exceeds its BIN chunk of " +
+                         std::to_string(bin.size()) + " bytes");
+        }
+        break;  // only the first buffer may be the BIN chunk
+      }
+    }
+    while (json.size() % 4) json += ' ';
+    auto u32 = [](uint64_t v) {
+      const uint32_t w = uint32_t(v);
+      return std::string(reinterpret_cast<const char*>(&w), 4);
+    };
+    const uint64_t length = 20 + json.size() + (bin.empty() ? 0 : 8 + bin.size());
+    bytes = "glTF" + u32(2) + u32(length) + u32(json.size()) + "JSON" + json;
+    if (!bin.empty()) bytes += u32(bin.size()) + std::string("BIN\0", 4) + bin;
+    bytes.append(8, '\0');
+  }
 
   ReadBudget budget;
-  budget.left -= bytes.size();
+  budget.left -= std::min<uint64_t>(budget.left, bytes.size());
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&file_exists, &expand_path, &read_whole, &write_whole, &budget});
-  loader.SetImageLoader(&keep_image, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const std::string dir = std::filesystem::path(path).parent_path().string();
   bool ok = false;
   try {
     ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                              unsigned(bytes.size()), dir)
+                                              unsigned(bytes.size() - 8), dir)
                 : loader.LoadASCIIFromString(&model, &err, &warn, json.data(), unsigned(json.size()), dir);
   } catch (const std::exception& e) {
     fail(path, std::string("glTF: ") + e.what());
   }
   if (!ok || !err.empty()) fail(path, "glTF: " + (err.empty() ? std::string("cannot read it") : err));
 
-  Reader r{path, options, model, {}, {}, {}, 0, 0, true};
+  Reader r{path, options, model, images, {}, {}, {}, 0, 0, true};
   std::vector<int> roots;
   if (!model.scenes.empty()) {
     const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
@@ -508,14 +615,16 @@ MeshArrays read_gltf(const std::string& path, const MeshOptions& options) {
     double total = 0;
     for (size_t i = 0; i < r.texture_sources.size(); ++i) {
       const int image = r.texture_sources[i].first;
-      const tinygltf::Image& im = model.images[size_t(image)];
-      const std::string name = "image " + std::to_string(image) +
-                               (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + im.uri + ")");
+      const nlohmann::json& im = images[size_t(image)];
+      const std::string uri =
+          im.is_object() && im.contains("uri") && im["uri"].is_string() ? im["uri"].get<std::string>() : "";
+      const std::string name =
+          "image " + std::to_string(image) + (uri.empty() || uri.rfind("data:", 0) == 0 ? "" : " (" + uri + ")");
       if (!written.count(image)) {
-        const std::vector<unsigned char>& data = im.image;
-        const char* ext = data.size() >= 8 && std::memcmp(data.data(), "\x89PNG\r\n\x1a\n", 8) == 0   ? ".png"
-                          : data.size() >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF ? ".jpg"
-                                                                                                      : nullptr;
+        const std::string data = image_bytes(path, model, im, uri, name, dir, budget);
+        const char* ext = data.size() >= 8 && std::memcmp(data.data(), "\x89PNG\r\n\x1a\n", 8) == 0 ? ".png"
+                          : data.size() >= 3 && std::memcmp(data.data(), "\xFF\xD8\xFF", 3) == 0    ? ".jpg"
+                                                                                                    : nullptr;
         if (!ext) fail(path, name + ": not a PNG or JPEG image" + (data.empty() ? " (no bytes)" : ""));
         const std::string file = (staging.path() / ("image" + std::to_string(image) + ext)).string();
         files::write_file(file, data.data(), data.size());
