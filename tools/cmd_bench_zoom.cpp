@@ -137,7 +137,7 @@ void run_zoom(const ZoomArgs& a) {
   settings.width = a.view.width;
   settings.height = a.view.height;
   settings.shadows = a.view.shadows;
-  settings.lights = make_lights(a.view, tree.origin + glm::vec3(0.5f * tree.size));
+  settings.lights = make_lights(a.view, tree.origin + glm::vec3(0.5f * tree.size), cameras.front());
   std::unique_ptr<render::Renderer> renderer = render::make_renderer(tree, {a.device});
   render::Renderer& gpu = *renderer;
 

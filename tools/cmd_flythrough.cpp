@@ -41,6 +41,7 @@ struct FlythroughArgs {
   std::string out;
   PathOptions path;
   ViewOptions view;
+  FilmOptions film;
   LightingOptions lighting;
   uint32_t spp = 16;
   std::string mode = "prefiltered";
@@ -141,6 +142,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       ->default_val("prefiltered")
       ->group("Shading");
   add_light_options(*cmd, a->view);
+  add_film_options(*cmd, a->film);
   add_lighting_options(*cmd, a->lighting);
   cmd->add_option("--spp", a->spp, "Samples per pixel of the forward-shading pass (with --env or --material)")
       ->check(CLI::Range(1u, 4096u))
@@ -164,6 +166,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
                                   "' for flythrough (modes: prefiltered, nearest, alpha, mip)");
     }
     check_view_options(a->view);
+    const render::Film film = make_film(a->film);
     std::optional<render::CameraPath> loaded = check_path_options(a->path);
     std::string video_format;
     if (!a->video.empty()) {
@@ -197,7 +200,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     settings.height = a->view.height;
     settings.mode = *mode;
     settings.shadows = a->view.shadows;
-    settings.lights = make_lights(a->view, tree.origin + glm::vec3(0.5f * tree.size));
+    settings.lights = make_lights(a->view, tree.origin + glm::vec3(0.5f * tree.size), cameras.front());
     settings.gbuffer = true;  // the depths give the levels used
     apply_lighting(a->lighting, settings);
     settings.shading.spp = a->spp;
@@ -225,7 +228,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
         times.push_back(render::frame_ms(frame));
       }
       std::sort(times.begin(), times.end());
-      render::write_colour((stage / frame_name(f)).string(), frame);
+      render::write_colour((stage / frame_name(f)).string(), frame, film);
       FrameRow row;
       row.frame = f;
       row.distance = glm::length(glm::dvec3(cameras[f].target) - glm::dvec3(cameras[f].eye));
@@ -268,7 +271,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     if (!strip_frames.empty()) {
       std::vector<const render::Frame*> row;
       for (const auto& f : strip_frames) row.push_back(&f);
-      render::write_colour((stage / "strip.png").string(), make_strip({row}, 256));
+      render::write_colour((stage / "strip.png").string(), make_strip({row}, 256), film);
     }
     if (!a->video.empty()) {
       // ffmpeg writes into our exclusively created temporary (never -y onto

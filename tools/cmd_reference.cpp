@@ -31,6 +31,7 @@ struct ReferenceArgs {
   std::string output;
   std::string octree;
   ViewOptions view;
+  FilmOptions film;
   LightingOptions lighting;
   LuminaireArgs luminaires;
   uint32_t luminaire_quadrature = 1;
@@ -56,8 +57,8 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       ->group("Input");
 
   cmd->add_option("-o,--output", a->output,
-                  "Image: .exr (float linear RGB, A = covered fraction; what svo compare needs) or .png (8-bit "
-                  "sRGB, no coverage)")
+                  "Image: .exr (float linear RGB, A = covered fraction; what svo compare needs) or .png or .jpg "
+                  "(8-bit sRGB through --exposure and --tonemap, no coverage)")
       ->required()
       ->group("Output");
   add_size_options(*cmd, a->view);
@@ -76,6 +77,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   add_camera_options(*cmd, a->view);
   add_light_options(*cmd, a->view);
+  add_film_options(*cmd, a->film);
   add_lighting_options(*cmd, a->lighting);
   add_luminaire_options(*cmd, a->luminaires);
   cmd->add_option("--luminaire-quadrature", a->luminaire_quadrature,
@@ -101,6 +103,8 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     check_luminaire_args(a->luminaires);
     render::image_format(a->output);
     render::check_writable_output(a->output);
+    const render::Film film = make_film(a->film);
+    if (const std::string note = film_note(a->film, a->output); !note.empty()) std::cerr << note << "\n";
 
     // --- The source, the octree's view and the settings.
     auto start = std::chrono::steady_clock::now();
@@ -123,9 +127,9 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     reference::ReferenceSettings settings;
     settings.render.width = a->view.width;
     settings.render.height = a->view.height;
-    settings.render.camera = resolve_camera(a->view, camera, tree ? &*tree : nullptr);
+    settings.render.camera = resolve_camera(a->view, camera, tree ? &*tree : nullptr, glm::length(bounds.hi - bounds.lo));
     settings.render.shadows = a->view.shadows;
-    settings.render.lights = make_lights(a->view, centre);
+    settings.render.lights = make_lights(a->view, centre, settings.render.camera);
     apply_lighting(a->lighting, settings.render);
     // The luminaires about the octree's domain, else the source's bounds.
     if (tree) {
@@ -149,7 +153,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     };
     render::Frame frame = reference::render_reference(*geometry, settings);
     bar.finish();
-    render::write_colour(a->output, frame);
+    render::write_colour(a->output, frame, film);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::string source = source_name(a->source);
     if (a->json) {

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "output_checks.h"
 #include "memory.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
@@ -34,6 +35,7 @@ struct RenderArgs {
   std::vector<std::string> aovs;    // NAME=FILE.exr
   std::vector<std::string> passes;  // added after the tracer, in order
   ViewOptions view;
+  FilmOptions film;
   std::string mode = "prefiltered";
   uint32_t spp = 0;  // 0: the default of the mode (1 ray) or of forward shading (16 samples)
   std::string
@@ -87,7 +89,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("FILE", a->input, "The .svo file to render")->required()->group("Input");
 
   cmd->add_option("-o,--output", a->output,
-                  "Image: .png (8-bit sRGB, clamped, background composited) or .exr (float linear RGB, A = coverage)")
+                  "Image: .png or .jpg (8-bit sRGB through --exposure and --tonemap, background composited) or "
+                  ".exr (float linear RGB as rendered, A = coverage)")
       ->required()
       ->group("Output");
   add_size_options(*cmd, a->view);
@@ -166,6 +169,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0.25f, 4.0f))
       ->group("Shading");
   add_light_options(*cmd, a->view);
+  add_film_options(*cmd, a->film);
   add_filter_options(*cmd, a->filter);
   add_adaptive_options(*cmd, a->adaptive);
   add_luminaire_options(*cmd, a->luminaires);
@@ -222,6 +226,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::optional<render::Camera> camera = check_view_options(a->view);
     render::image_format(a->output);
     render::check_writable_output(a->output);
+    const render::Film film = make_film(a->film);
+    if (const std::string note = film_note(a->film, a->output); !note.empty()) std::cerr << note << "\n";
     for (const auto& [path, what] : {std::pair{a->gbuffer, "the G-buffer"}, std::pair{a->steps, "the steps image"}}) {
       if (path.empty()) continue;
       if (render::image_format(path) != render::ImageFormat::Exr) {
@@ -242,6 +248,12 @@ void add_render_command(CLI::App& app, int& exit_code) {
         throw std::invalid_argument(aovs.back().second + ": --aov images are written as OpenEXR only (use .exr)");
       }
       render::check_writable_output(aovs.back().second);
+    }
+    {
+      std::vector<std::pair<std::string, std::string>> outputs{
+          {"-o", a->output}, {"--gbuffer", a->gbuffer}, {"--steps", a->steps}, {"--save-camera", a->save_camera}};
+      for (const auto& [name, path] : aovs) outputs.emplace_back("--aov " + name, path);
+      check_distinct_outputs(outputs);
     }
     // The frame on the host: colour (16 bytes a pixel), steps (4), the
     // file's copy (up to 16), the G-buffer and its file's copy (2 x 48), the
@@ -302,7 +314,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       settings.gbuffer = settings.gbuffer || name == "gbuffer";
       settings.display = settings.display || name == "display";
     }
-    settings.lights = make_lights(a->view, centre);
+    settings.lights = make_lights(a->view, centre, settings.camera);
 
     // --- Render.
     auto setup_start = std::chrono::steady_clock::now();
@@ -342,7 +354,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     const std::vector<std::string> messages = renderer->validation_messages();
 
     // --- Outputs (written even when validation complained, so that the frame can be inspected).
-    render::write_colour(a->output, frame);
+    render::write_colour(a->output, frame, film);
     if (!a->gbuffer.empty()) render::write_gbuffer(a->gbuffer, frame);
     if (!a->steps.empty()) render::write_steps(a->steps, frame);
     if (!a->save_camera.empty()) render::save_camera_json(a->save_camera, settings.camera);

@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "memory.h"
+#include "output_checks.h"
 #include "progress.h"
 #include "source_options.h"
 #include "svo/octree/files.h"
@@ -70,9 +71,9 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       ->group("Output");
   cmd->add_option("--grid", a->grid, "The grid of a .vdb input, by name (default: its only float level set)")
       ->group("Input");
-  cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis: a power of two")
+  cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis: a power of two from 16 to 4096")
       ->default_val(256)
-      ->check(CLI::Range(16u, 4096u))
+      ->check(resolution_check())
       ->group("Octree");
   cmd->add_option("--brick", a->brick, "Lattice cells per brick edge: 4, 8 or 16")
       ->default_val(8)
@@ -86,6 +87,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                 "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");
   cmd->callback([a, &exit_code] {
     check_source_options(a->source, "voxelize");
+    require_extension("-o", a->output, {".svo"}, "an octree");
     std::unique_ptr<voxelizer::SurfaceSource> source;
     const std::string what = source_name(a->source);
     if (!a->grid.empty() && !voxelizer::is_vdb_path(a->source.input)) {

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <new>
 
+#include "cli_hint.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -44,7 +45,9 @@ int main(int argc, char** argv) {
     std::cout << "svo 0.1.0\n";
     return 0;
   } catch (const CLI::ParseError& e) {
-    std::cerr << "svo: " << e.what() << " (see svo --help)\n";
+    const svo::tools::CommandLineHint hint = svo::tools::command_line_hint(app, argc, argv);
+    std::cerr << hint.command << ": " << (hint.message.empty() ? std::string(e.what()) : hint.message) << " (see "
+              << hint.command << " --help)\n";
     return 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "svo: out of host memory (an allocation failed); try a smaller --resolution or image size\n";

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "svo/render/image_io.h"
+
 namespace svo::tools {
 
 void add_source_options(CLI::App& cmd, SourceOptions& o) {
@@ -18,10 +20,20 @@ void add_source_options(CLI::App& cmd, SourceOptions& o) {
   input->excludes(scene);
   input->excludes(scene_file);
   scene->excludes(scene_file);
-  cmd.add_option("--colour", o.colour, "Constant colour R,G,B in [0, 1] for meshes without colours")
-      ->delimiter(',')
-      ->expected(3)
-      ->check(CLI::Range(0.0f, 1.0f))
+  cmd.add_option_function<std::string>(
+         "--colour",
+         [&o](const std::string& text) {
+           try {
+             const glm::vec3 c = render::parse_colour(text);
+             o.colour = {c.r, c.g, c.b};
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError("--colour", e.what());  // one line, naming the command's --help
+           }
+         },
+         "Constant albedo for meshes without colours: R,G,B as linear reflectance, each in [0, 1] (0.5,0.5,0.5 "
+         "is mid-grey in radiance, shown as sRGB 188), or #rrggbb as a colour picker gives it (sRGB, converted "
+         "to linear: #808080 is 0.216)")
+      ->type_name("R,G,B|#rrggbb")
       ->group("Appearance");
   cmd.add_option("--roughness", o.roughness,
                  "Micro-BRDF slope deviation sigma_rho (default: the OBJ material's Pr or Ns, else 0.1)")
@@ -68,6 +80,18 @@ void check_source_options(const SourceOptions& o, const std::string& command) {
     throw std::invalid_argument(command + ": --detail-amplitude " + std::to_string(o.detail_amplitude) +
                                 " exceeds --detail-wavelength " + std::to_string(o.detail_wavelength));
   }
+}
+
+CLI::Validator resolution_check() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        unsigned long v = 0;
+        const bool number = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos &&
+                            text.size() < 10 && (v = std::stoul(text), true);
+        if (number && v >= 16 && v <= 4096 && (v & (v - 1)) == 0) return "";
+        return "resolution " + text + " is not a power of two from 16 to 4096";
+      },
+      "POWER OF TWO 16..4096");
 }
 
 std::string source_name(const SourceOptions& o) {

@@ -42,6 +42,10 @@ void add_source_options(CLI::App& cmd, SourceOptions& o);
 // or their amplitude exceeds their wavelength.
 void check_source_options(const SourceOptions& o, const std::string& command);
 
+// The check of a --resolution option: a power of two from 16 to 4096, the
+// one limit the voxelizing commands state (the library takes up to 65536).
+CLI::Validator resolution_check();
+
 // "scene NAME", "scene file PATH" or the mesh path, for messages and reports.
 std::string source_name(const SourceOptions& o);
 

@@ -14,11 +14,12 @@ namespace svo::tools {
 
 namespace {
 
-// "--dof A,F" as the user wrote it, for messages; empty without --dof.
+// "--dof A[,F]" as the user wrote it, for messages; empty without --dof.
 std::string dof_text(const ViewOptions& o) {
-  if (o.dof.size() != 2) return "";
+  if (o.dof.empty()) return "";
   std::ostringstream s;
-  s << "--dof " << o.dof[0] << "," << o.dof[1];
+  s << "--dof " << o.dof[0];
+  if (o.dof.size() == 2) s << "," << o.dof[1];
   return s.str();
 }
 
@@ -37,8 +38,8 @@ void add_size_options(CLI::App& cmd, ViewOptions& o) {
 
 void add_camera_options(CLI::App& cmd, ViewOptions& o) {
   auto* view = cmd.add_option("--view", o.preset,
-                              "Camera preset from the octree's bounds: far (whole domain), mid (3x closer), close "
-                              "(a few voxels from the surface)")
+                              "Camera preset from the octree's surface: far (the object framed), mid (2x closer), "
+                              "close (a few voxels from the surface)")
                    ->default_val("far")
                    ->group("Camera");
   auto* camera = cmd.add_option("--camera", o.camera,
@@ -51,9 +52,24 @@ void add_camera_options(CLI::App& cmd, ViewOptions& o) {
                           ->group("Camera");
   view->excludes(camera)->excludes(camera_file);
   camera->excludes(camera_file);
-  cmd.add_option("--dof", o.dof, "Thin lens APERTURE,FOCUS: lens radius >= 0 and focus distance > 0, scene units")
+  auto* orbit = cmd.add_option("--orbit", o.orbit,
+                               "The preset's direction AZIMUTH,ELEVATION in degrees: azimuth about the vertical (+y) "
+                               "axis from +z, elevation above the horizontal in (-90, 90) (default 35,30)")
+                    ->delimiter(',')
+                    ->expected(2)
+                    ->group("Camera");
+  auto* distance = cmd.add_option("--distance", o.distance,
+                                  "The preset's eye distance from its target in object sizes (the diagonal of the "
+                                  "surface's bounds; default: far frames the object, mid is 2x closer)")
+                       ->check(CLI::Range(1e-4f, 1e4f))
+                       ->group("Camera");
+  for (auto* option : {orbit, distance}) option->excludes(camera)->excludes(camera_file);
+  cmd.add_option("--dof", o.dof,
+                 "Depth of field, a thin lens: APERTURE alone is the lens radius as a fraction of the object's size, "
+                 "focused on the target (0.01 is a gentle blur, 0.05 a strong one); APERTURE,FOCUS are a lens "
+                 "radius >= 0 and a focus distance > 0 in scene units")
       ->delimiter(',')
-      ->expected(2)
+      ->expected(1, 2)
       ->group("Camera");
 }
 
@@ -61,13 +77,40 @@ void add_light_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_flag("--shadows", o.shadows, "Soft shadows from each light's extent")->group("Shading");
   cmd.add_option("--light", o.lights,
                  "A light, repeatable up to " + std::to_string(render::kMaxLights) +
-                     " (default: dir:0.4,0.8,0.6):\n"
+                     " (default: a key light from the camera's upper left, irradiance 3, and a fill light from "
+                     "its right, 0.6):\n"
                      "dir:X,Y,Z[,IRRADIANCE[,ANGLE]] towards (X,Y,Z), irradiance default 3, angular radius "
                      "default 0.02 rad;\n"
                      "point:X,Y,Z[,INTENSITY[,RADIUS]] at (X,Y,Z), default intensity gives irradiance 3 at the "
                      "domain centre, radius default 1% of the distance to it")
       ->allow_extra_args(false)  // one light per --light, so that FILE may follow it
       ->group("Shading");
+}
+
+void add_film_options(CLI::App& cmd, FilmOptions& o) {
+  cmd.add_option("--exposure", o.exposure,
+                 "Exposure of 8-bit outputs (.png, .jpg) in stops: radiance times 2^EV before the tone map "
+                 "(.exr is written as rendered)")
+      ->capture_default_str()
+      ->check(CLI::Range(-20.0f, 20.0f))
+      ->group("Film");
+  cmd.add_option("--tonemap", o.tonemap,
+                 "Tone map of 8-bit outputs: none (clamp to [0, 1]) or filmic (the ACES curve as fitted by "
+                 "Narkowicz 2015: highlights roll off instead of clipping, 1.0 shows as 0.8); .exr is not tone mapped")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "filmic"}))
+      ->group("Film");
+}
+
+render::Film make_film(const FilmOptions& o) {
+  const std::optional<render::Tonemap> tonemap = render::parse_tonemap(o.tonemap);
+  if (!tonemap) throw std::invalid_argument("unknown tone map '" + o.tonemap + "' (tone maps: none, filmic)");
+  return render::Film{o.exposure, *tonemap};
+}
+
+std::string film_note(const FilmOptions& o, const std::string& path) {
+  if (make_film(o) == render::Film{} || render::is_8bit(render::image_format(path))) return "";
+  return "svo: note: " + path + " is written as rendered radiance; --exposure and --tonemap apply to .png and .jpg";
 }
 
 void add_filter_options(CLI::App& cmd, FilterArgs& o) {
@@ -378,9 +421,19 @@ std::optional<render::Camera> check_view_options(const ViewOptions& o) {
                                 std::to_string(render::kMaxLights));
   }
   for (const auto& light : o.lights) render::parse_light(light, glm::vec3(0));  // syntax only
-  if (o.dof.size() == 2) {
+  if (!o.dof.empty()) {
     if (!(o.dof[0] >= 0)) throw std::invalid_argument(dof_text(o) + ": aperture must be >= 0");
-    if (!(o.dof[1] > 0)) throw std::invalid_argument(dof_text(o) + ": focus must be > 0");
+    if (o.dof.size() == 1 && !(o.dof[0] <= 1)) {
+      throw std::invalid_argument(dof_text(o) +
+                                  ": one number is the aperture as a fraction of the object's size, "
+                                  "at most 1 (give APERTURE,FOCUS for scene units)");
+    }
+    if (o.dof.size() == 2 && !(o.dof[1] > 0)) throw std::invalid_argument(dof_text(o) + ": focus must be > 0");
+  }
+  if (!o.orbit.empty() && !(std::isfinite(o.orbit[0]) && std::abs(o.orbit[1]) < 90.0f)) {
+    std::ostringstream s;
+    s << "--orbit " << o.orbit[0] << "," << o.orbit[1] << ": elevation must be within (-90, 90) degrees";
+    throw std::invalid_argument(s.str());
   }
   std::optional<render::Camera> camera;
   if (!o.camera.empty()) camera = render::parse_camera(o.camera);
@@ -388,21 +441,34 @@ std::optional<render::Camera> check_view_options(const ViewOptions& o) {
   return camera;
 }
 
-render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree) {
+render::PresetOptions preset_options(const ViewOptions& o) {
+  render::PresetOptions p;
+  if (o.orbit.size() == 2) p.azimuth_deg = o.orbit[0], p.elevation_deg = o.orbit[1];
+  p.distance = o.distance;
+  return p;
+}
+
+render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree,
+                              float object_size) {
   if (!given) {
     if (!tree) throw std::invalid_argument("view preset '" + o.preset + "' needs an octree");
-    given = render::view_preset(*tree, o.preset, float(o.width) / float(o.height));
+    given = render::view_preset(*tree, o.preset, float(o.width) / float(o.height), preset_options(o));
   }
   if (o.dof.size() == 2) {
     given->aperture = o.dof[0];
     given->focus = o.dof[1];
-    render::validate_camera(*given, dof_text(o));
+  } else if (o.dof.size() == 1) {
+    if (tree) object_size = render::object_size(*tree);
+    if (!(object_size > 0)) throw std::invalid_argument(dof_text(o) + ": the object's size is unknown here");
+    given->aperture = o.dof[0] * object_size;
+    given->focus = glm::length(given->target - given->eye);
   }
+  if (!o.dof.empty()) render::validate_camera(*given, dof_text(o));
   return *given;
 }
 
-std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre) {
-  if (o.lights.empty()) return render::RenderSettings{}.lights;
+std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre, const render::Camera& camera) {
+  if (o.lights.empty()) return render::default_lights(camera);
   std::vector<render::Light> lights;
   for (const auto& light : o.lights) lights.push_back(render::parse_light(light, scene_centre));
   return lights;

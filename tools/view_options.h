@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "svo/octree/octree.h"
+#include "svo/render/camera.h"
+#include "svo/render/image_io.h"
 #include "svo/render/renderer.h"
 
 namespace svo::tools {
@@ -23,7 +25,9 @@ struct ViewOptions {
   std::string preset = "far";  // --view
   std::string camera;          // --camera text
   std::string camera_file;     // --camera-file path
-  std::vector<float> dof;      // --dof APERTURE,FOCUS (empty: pinhole)
+  std::vector<float> orbit;    // --orbit AZIMUTH,ELEVATION degrees (empty: the preset's 35,30)
+  float distance = 0;          // --distance in object sizes (0: the preset's)
+  std::vector<float> dof;      // --dof APERTURE[,FOCUS] (empty: pinhole)
   bool shadows = false;
   std::vector<std::string> lights;  // --light texts
 };
@@ -63,9 +67,25 @@ struct LuminaireArgs {
   uint32_t depth = 0;
 };
 
+// How linear radiance becomes an 8-bit PNG or JPEG (render::Film): the same
+// words for svo render, reference, flythrough, demo and view. EXR outputs
+// are never touched, so two .exr files compare as radiance whatever the film.
+struct FilmOptions {
+  float exposure = 0;            // --exposure EV
+  std::string tonemap = "none";  // --tonemap none|filmic
+};
+// --exposure and --tonemap (group Film).
+void add_film_options(CLI::App& cmd, FilmOptions& o);
+// The options as a render::Film (for render::write_colour).
+render::Film make_film(const FilmOptions& o);
+// A one-line note for stderr when a film other than the default is asked
+// for and `path` is a float output, which it does not change; "" otherwise.
+std::string film_note(const FilmOptions& o, const std::string& path);
+
 // --width and --height (group Output).
 void add_size_options(CLI::App& cmd, ViewOptions& o);
-// --view, --camera, --camera-file (mutually exclusive) and --dof (group Camera).
+// --view, --camera, --camera-file (mutually exclusive), --orbit, --distance
+// (with a preset) and --dof (group Camera).
 void add_camera_options(CLI::App& cmd, ViewOptions& o);
 // --shadows and --light (group Shading).
 void add_light_options(CLI::App& cmd, ViewOptions& o);
@@ -124,14 +144,22 @@ bool uses_preset(const ViewOptions& o);
 // How the camera was given, for reports: the preset's name, "camera" or "camera-file".
 std::string view_name(const ViewOptions& o);
 
-// The camera: `given` (from check_view_options) or the preset of `tree`
-// (required then), with --dof applied.
-// @throw std::invalid_argument for a camera --dof makes invalid; what view_preset throws.
-render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree);
+// The preset's direction and distance from --orbit and --distance.
+render::PresetOptions preset_options(const ViewOptions& o);
 
-// The lights of --light (RenderSettings' default light when none is given);
-// point-light defaults are relative to `scene_centre`.
-std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre);
+// The camera: `given` (from check_view_options) or the preset of `tree`
+// (required then), with --dof applied: one number is the lens radius as a
+// fraction of the object's size (render::object_size of `tree`, else
+// `object_size`), focused on the target; two are a lens radius and a focus
+// distance in scene units.
+// @throw std::invalid_argument for a camera --dof makes invalid; what view_preset throws.
+render::Camera resolve_camera(const ViewOptions& o, std::optional<render::Camera> given, const octree::Octree* tree,
+                              float object_size = 0);
+
+// The lights of --light; without any, render::default_lights of `camera`
+// (a key light from the camera's upper side and a dim fill). Point-light
+// defaults are relative to `scene_centre`.
+std::vector<render::Light> make_lights(const ViewOptions& o, glm::vec3 scene_centre, const render::Camera& camera);
 
 // A float as the shortest decimal that reads back as the same float (0.1, not 0.10000000149011612).
 double json_float(float v);

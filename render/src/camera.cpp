@@ -25,7 +25,10 @@ namespace {
 
 constexpr float kPresetFov = 40.0f;
 constexpr float kAzimuth = 35.0f, kElevation = 30.0f;  // degrees: the 3/4 elevated view of far and mid
-constexpr float kMidCloser = 3.0f;
+constexpr float kMidCloser =
+    2.0f;  // about the distance of the former mid view (a third of the whole domain's far view)
+constexpr float kFrameFill = 0.9f;       // the far view's object spans at most 90% of the narrower field
+constexpr float kFillIrradiance = 0.6f;  // the default fill light: a fifth of the key's 3
 constexpr float kCloseVoxels = 8.0f, kCloseFraction = 0.02f;
 const glm::vec3 kWorldUp(0, 1, 0);
 // validate_camera: eye and target coordinates within +-1e18, so that the
@@ -175,13 +178,17 @@ class DistanceSampler {
   float voxel_;
 };
 
-// Bounds of the finest level's bricks (where the surface is); nullopt without any.
-std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octree& tree) {
-  if (tree.nodes.empty()) return std::nullopt;
+// The lower corners of the finest level's bricks (where the surface is) and their edge length.
+struct FinestBricks {
+  std::vector<glm::vec3> corners;
+  float size = 0;
+};
+
+FinestBricks finest_bricks(const octree::Octree& tree) {
+  FinestBricks out;
+  if (tree.nodes.empty() || tree.depth_count == 0) return out;
   const uint32_t finest = tree.depth_count - 1;
-  const float brick = tree.size / float(1u << finest);
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  bool any = false;
+  out.size = tree.size / float(1u << finest);
   struct Item {
     uint32_t node, depth;
     glm::ivec3 coords;
@@ -193,10 +200,7 @@ std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octr
     if (item.node >= tree.nodes.size()) continue;
     const octree::Node& node = tree.nodes[item.node];
     if (item.depth == finest) {
-      if (node.brick == octree::kNone) continue;
-      glm::vec3 a = tree.origin + glm::vec3(item.coords) * brick;
-      lo = glm::min(lo, a), hi = glm::max(hi, a + glm::vec3(brick));
-      any = true;
+      if (node.brick != octree::kNone) out.corners.push_back(tree.origin + glm::vec3(item.coords) * out.size);
       continue;
     }
     if (node.children == octree::kNone) continue;
@@ -205,12 +209,20 @@ std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octr
       stack.push_back({node.children + i, item.depth + 1, item.coords * 2 + o});
     }
   }
-  if (!any) return std::nullopt;
+  return out;
+}
+
+// Bounds of the finest level's bricks; nullopt without any.
+std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octree& tree) {
+  const FinestBricks bricks = finest_bricks(tree);
+  if (bricks.corners.empty()) return std::nullopt;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (glm::vec3 a : bricks.corners) lo = glm::min(lo, a), hi = glm::max(hi, a + glm::vec3(bricks.size));
   return std::make_pair(lo, hi);
 }
 
-glm::vec3 preset_direction() {
-  float az = glm::radians(kAzimuth), el = glm::radians(kElevation);
+glm::vec3 preset_direction(const PresetOptions& p) {
+  float az = glm::radians(p.azimuth_deg), el = glm::radians(p.elevation_deg);
   return glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
 }
 
@@ -220,30 +232,75 @@ glm::vec3 up_for(glm::vec3 forward) {
   return glm::vec3(0, 0, -1);
 }
 
-Camera far_view(const octree::Octree& tree, float aspect) {
+// What the far view frames: the surface's bounds, or the domain cube when
+// the octree holds no surface.
+std::pair<glm::vec3, glm::vec3> framed_box(const octree::Octree& tree) {
+  if (auto b = surface_bounds(tree)) return *b;
+  return {tree.origin, tree.origin + glm::vec3(tree.size)};
+}
+
+// The least distance from `centre` along `dir` at which every point of
+// `points` lies inside kFrameFill of the field of view: a point q (from the
+// centre) at lateral offsets x, y and depth D - q.dir needs
+// D >= |x| / tan_h + q.dir (and the same with y, tan_v).
+float framing_distance(const std::vector<glm::vec3>& points, glm::vec3 centre, glm::vec3 dir, glm::vec3 up,
+                       float aspect) {
+  const glm::vec3 forward = -dir;
+  const glm::vec3 right = glm::normalize(glm::cross(forward, up)), true_up = glm::cross(right, forward);
+  const float tv = std::tan(glm::radians(0.5f * kPresetFov)) * kFrameFill, th = tv * aspect;
+  float distance = 0, reach = 0;
+  for (glm::vec3 p : points) {
+    const glm::vec3 q = p - centre;
+    const float need = std::max(std::abs(glm::dot(q, right)) / th, std::abs(glm::dot(q, true_up)) / tv);
+    distance = std::max(distance, need + glm::dot(q, dir));
+    reach = std::max(reach, glm::length(q));
+  }
+  // Never inside the object: beyond its farthest point from the centre.
+  return std::max(distance, 1.05f * reach);
+}
+
+// The corners of the bricks the far view frames (the domain cube's when there are none).
+std::vector<glm::vec3> framed_points(const octree::Octree& tree) {
+  FinestBricks bricks = finest_bricks(tree);
+  if (bricks.corners.empty()) {
+    bricks.corners.push_back(tree.origin);
+    bricks.size = tree.size;
+  }
+  std::vector<glm::vec3> points;
+  points.reserve(bricks.corners.size() * 8);
+  for (glm::vec3 a : bricks.corners) {
+    for (int i = 0; i < 8; ++i) points.push_back(a + bricks.size * glm::vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  }
+  return points;
+}
+
+Camera far_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+  const auto [lo, hi] = framed_box(tree);
+  const glm::vec3 dir = preset_direction(p);
   Camera c;
   c.fov_deg = kPresetFov;
-  c.target = tree.origin + glm::vec3(0.5f * tree.size);
-  float half_v = glm::radians(0.5f * kPresetFov);
-  float half_h = std::atan(std::tan(half_v) * aspect);
-  float radius = 0.5f * std::sqrt(3.0f) * tree.size;  // the cube's bounding sphere
-  c.eye = c.target + preset_direction() * (radius / std::sin(std::min(half_v, half_h)));
-  c.up = kWorldUp;
+  c.target = 0.5f * (lo + hi);
+  c.up = up_for(-dir);
+  const float distance = p.distance > 0 ? p.distance * glm::length(hi - lo)
+                                        : framing_distance(framed_points(tree), c.target, dir, c.up, aspect);
+  c.eye = c.target + dir * distance;
   return c;
 }
 
-Camera mid_view(const octree::Octree& tree, float aspect) {
-  auto bounds = surface_bounds(tree);
-  if (!bounds) throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
-  Camera far = far_view(tree, aspect);
-  Camera c = far;
-  c.target = 0.5f * (bounds->first + bounds->second);
-  c.eye = c.target + preset_direction() * (glm::length(far.eye - far.target) / kMidCloser);
+Camera mid_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+  if (!surface_bounds(tree)) {
+    throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
+  }
+  Camera c = far_view(tree, aspect, PresetOptions{p.azimuth_deg, p.elevation_deg, 0});
+  const glm::vec3 dir = preset_direction(p);
+  const auto [lo, hi] = framed_box(tree);
+  const float size = glm::length(hi - lo);
+  c.eye = c.target + dir * (p.distance > 0 ? p.distance * size : glm::length(c.eye - c.target) / kMidCloser);
   return c;
 }
 
-Camera close_view(const octree::Octree& tree, float aspect) {
-  Camera mid = mid_view(tree, aspect);
+Camera close_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+  Camera mid = mid_view(tree, aspect, PresetOptions{p.azimuth_deg, p.elevation_deg, 0});
   DistanceSampler sampler(tree);
   glm::vec3 forward = glm::normalize(mid.target - mid.eye);
   glm::vec3 right = glm::normalize(glm::cross(forward, mid.up));
@@ -266,7 +323,9 @@ Camera close_view(const octree::Octree& tree, float aspect) {
   }
   if (!hit) throw std::runtime_error("view close: no ray of the mid view meets the surface");
 
-  const float distance = std::max(kCloseVoxels * sampler.voxel(), kCloseFraction * tree.size);
+  const auto [lo, hi] = framed_box(tree);
+  const float distance = p.distance > 0 ? p.distance * glm::length(hi - lo)
+                                        : std::max(kCloseVoxels * sampler.voxel(), kCloseFraction * tree.size);
   glm::vec3 n = hit->normal, towards_viewer = -ray;
   glm::vec3 tangent = towards_viewer - n * glm::dot(n, towards_viewer);
   if (glm::length(tangent) < 1e-4f) {  // looking along the normal: any tangent
@@ -299,13 +358,35 @@ std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 
 
 std::vector<std::string> view_preset_names() { return {"far", "mid", "close"}; }
 
-Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect) {
+std::pair<glm::vec3, glm::vec3> object_bounds(const octree::Octree& tree) { return framed_box(tree); }
+
+float object_size(const octree::Octree& tree) {
+  const auto [lo, hi] = framed_box(tree);
+  return glm::length(hi - lo);
+}
+
+std::vector<Light> default_lights(const Camera& camera) {
+  const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up)), up = glm::cross(right, forward);
+  Light key, fill;
+  key.vector = glm::normalize(-0.5f * right + 0.75f * up - 0.45f * forward);
+  fill.vector = glm::normalize(0.7f * right - 0.1f * up - 0.7f * forward);
+  fill.radiance = glm::vec3(kFillIrradiance);
+  return {key, fill};
+}
+
+Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect, const PresetOptions& options) {
   if (!(aspect > 0) || !std::isfinite(aspect)) throw std::invalid_argument("view preset: aspect must be positive");
   if (tree.depth_count == 0 || !(tree.size > 0))
     throw std::invalid_argument("view preset: octree without levels or size");
-  if (name == "far") return far_view(tree, aspect);
-  if (name == "mid") return mid_view(tree, aspect);
-  if (name == "close") return close_view(tree, aspect);
+  if (!(std::isfinite(options.azimuth_deg) && std::abs(options.elevation_deg) < 90.0f) ||
+      !(options.distance >= 0 && std::isfinite(options.distance))) {
+    throw std::invalid_argument(
+        "view preset: azimuth must be finite, elevation within (-90, 90) degrees and distance >= 0");
+  }
+  if (name == "far") return far_view(tree, aspect, options);
+  if (name == "mid") return mid_view(tree, aspect, options);
+  if (name == "close") return close_view(tree, aspect, options);
   throw std::invalid_argument("unknown view '" + printable(name) + "' (views: far, mid, close)");
 }
 

@@ -132,8 +132,7 @@ TEST(CameraJson, ErrorsNameTheFileAndTheProblem) {
             "focus must be > 0 with an aperture");
   EXPECT_EQ(load("[1, 2, 3]"), "expected a JSON object with eye, target, up and fov");
   EXPECT_EQ(load("{\"eye\": [").rfind("not a JSON camera file: ", 0), 0u);
-  EXPECT_EQ(error_of([&] { load_camera_json(dir / "missing.json"); }),
-            (dir / "missing.json") + ": does not exist");
+  EXPECT_EQ(error_of([&] { load_camera_json(dir / "missing.json"); }), (dir / "missing.json") + ": does not exist");
 }
 
 TEST(ParseLight, DirectionalAndPoint) {
@@ -195,30 +194,71 @@ class Presets : public ::testing::Test {
 voxelizer::AnalyticScene* Presets::scene_ = nullptr;
 octree::Octree* Presets::tree_ = nullptr;
 
-TEST_F(Presets, FarFramesTheWholeDomain) {
+TEST_F(Presets, FarFramesTheObject) {
   const octree::Octree& tree = *tree_;
+  const auto [lo, hi] = object_bounds(tree);
+  EXPECT_LT(glm::max(lo.x, glm::max(lo.y, lo.z)),
+            -0.7f);  // the bricks' bounds hold the sphere (radius 0.7 and its bumps)
+  EXPECT_GT(glm::min(hi.x, glm::min(hi.y, hi.z)), 0.7f);
   for (float aspect : {1.0f, 0.5f, 2.0f}) {
     Camera c = view_preset(tree, "far", aspect);
     EXPECT_NO_THROW(validate_camera(c, "far"));
-    glm::vec3 forward = glm::normalize(c.target - c.eye);
-    glm::vec3 right = glm::normalize(glm::cross(forward, c.up)), up = glm::cross(right, forward);
-    float tv = std::tan(glm::radians(0.5f * c.fov_deg)), th = tv * aspect;
-    EXPECT_TRUE(hits_box(c.eye, forward, tree.origin, tree.origin + glm::vec3(tree.size)));
-    for (int i = 0; i < 8; ++i) {  // every corner of the cube inside the frustum
-      glm::vec3 corner = tree.origin + tree.size * glm::vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-      glm::vec3 d = corner - c.eye;
-      float z = glm::dot(d, forward);
-      ASSERT_GT(z, 0);
-      EXPECT_LE(std::abs(glm::dot(d, right)) / z, th) << "corner " << i << " aspect " << aspect;
-      EXPECT_LE(std::abs(glm::dot(d, up)) / z, tv) << "corner " << i << " aspect " << aspect;
-    }
+    EXPECT_LT(glm::length(c.target), 0.1f) << "aimed at the sphere's centre";
+    // The sphere's share of the narrower field: its base (radius 0.7) fills
+    // most of it, its outer bound (0.8, above the bumps) stays inside it.
+    // The framed bricks reach up to a brick (8 voxels, 0.22 here) beyond the
+    // surface, hence 0.55 (framing the whole domain gave 0.44).
+    const float d = glm::length(c.eye - c.target);
+    const float half = std::atan(std::tan(glm::radians(0.5f * c.fov_deg)) * std::min(1.0f, aspect));
+    auto share = [&](float r) { return std::tan(std::asin(r / d)) / std::tan(half); };
+    EXPECT_GT(share(0.7f), 0.55f) << "aspect " << aspect << ": framed, not lost in the domain";
+    EXPECT_LT(share(0.8f), 1.0f) << "aspect " << aspect;
     EXPECT_GT(c.eye.y, c.target.y);  // elevated
   }
 }
 
-TEST_F(Presets, MidIsThreeTimesCloserTowardsTheSurface) {
+TEST_F(Presets, OrbitAndDistance) {
+  const float size = object_size(*tree_);
+  EXPECT_NEAR(size, glm::length(object_bounds(*tree_).second - object_bounds(*tree_).first), 1e-6f);
+  // Azimuth 90, elevation 0: the eye on +x of the target; 2 object sizes away.
+  Camera side = view_preset(*tree_, "far", 1.0f, PresetOptions{90, 0, 2});
+  glm::vec3 to_eye = side.eye - side.target;
+  EXPECT_NEAR(glm::length(to_eye), 2 * size, 1e-4f * size);
+  EXPECT_NEAR(glm::normalize(to_eye).x, 1.0f, 1e-5f);
+  // Elevation 60: from above; mid keeps its target and is 2x closer than far along the same direction.
+  Camera far = view_preset(*tree_, "far", 1.0f, PresetOptions{-20, 60, 0});
+  Camera mid = view_preset(*tree_, "mid", 1.0f, PresetOptions{-20, 60, 0});
+  glm::vec3 d = glm::normalize(far.eye - far.target);
+  EXPECT_NEAR(d.y, std::sin(glm::radians(60.0f)), 1e-5f);
+  EXPECT_NEAR(glm::length(mid.eye - mid.target), glm::length(far.eye - far.target) / 2, 1e-4f);
+  EXPECT_THROW(view_preset(*tree_, "far", 1.0f, PresetOptions{0, 90, 0}), std::invalid_argument);
+  EXPECT_THROW(view_preset(*tree_, "far", 1.0f, PresetOptions{0, 0, -1}), std::invalid_argument);
+  // Straight down: the up vector changes so the camera stays valid.
+  EXPECT_NO_THROW(validate_camera(view_preset(*tree_, "far", 1.0f, PresetOptions{0, 89.9f, 0}), "down"));
+}
+
+TEST(DefaultLights, KeyFromTheCamerasUpperSideAndADimFill) {
+  Camera c;
+  c.eye = glm::vec3(5, 1, 2);
+  c.target = glm::vec3(0, 0, 0);
+  c.up = glm::vec3(0, 1, 0);
+  const std::vector<Light> lights = default_lights(c);
+  ASSERT_EQ(lights.size(), 2u);
+  const glm::vec3 forward = glm::normalize(c.target - c.eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, c.up)), up = glm::cross(right, forward);
+  const glm::vec3 key = glm::normalize(lights[0].vector), fill = glm::normalize(lights[1].vector);
+  EXPECT_GT(glm::dot(key, up), 0.5f);                             // from above the camera
+  EXPECT_LT(glm::dot(key, forward), 0.0f);                        // from the camera's side of the object
+  EXPECT_LT(glm::dot(key, forward), -0.25f);                      // not grazing
+  EXPECT_GT(glm::dot(key, forward), -0.9f);                       // not a head light: --shadows show
+  EXPECT_LT(glm::dot(key, right) * glm::dot(fill, right), 0.0f);  // from the other side
+  EXPECT_LT(lights[1].radiance.x, 0.3f * lights[0].radiance.x);
+  EXPECT_GT(lights[1].radiance.x, 0.0f);
+}
+
+TEST_F(Presets, MidIsTwiceAsCloseTowardsTheSurface) {
   Camera far = view_preset(*tree_, "far"), mid = view_preset(*tree_, "mid");
-  EXPECT_NEAR(glm::length(mid.eye - mid.target), glm::length(far.eye - far.target) / 3, 1e-4f);
+  EXPECT_NEAR(glm::length(mid.eye - mid.target), glm::length(far.eye - far.target) / 2, 1e-4f);
   EXPECT_LT(glm::length(mid.target), 0.05f);   // the sphere's centre
   EXPECT_GT(scene_->distance(mid.eye), 0.1f);  // outside the sphere
 }

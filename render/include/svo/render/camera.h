@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "svo/octree/octree.h"
@@ -18,22 +19,50 @@ namespace svo::render {
 // Names accepted by view_preset: "far", "mid", "close".
 std::vector<std::string> view_preset_names();
 
-// A camera placed from the octree alone (fov 40 degrees, world +y up):
-//   far   the whole domain cube [origin, origin + size]^3 in frame, seen from
-//         a 3/4 elevated direction (azimuth 35, elevation 30 degrees);
-//   mid   the same direction, 3 times closer, aimed at the centre of the
-//         surface (the bounds of the finest bricks);
+// Where a preset looks from: the direction from the target towards the
+// eye by azimuth (degrees about +y, 0 along +z) and elevation (degrees above
+// the horizontal), and the distance from the target in object sizes
+// (object_size; 0: the preset's own).
+struct PresetOptions {
+  float azimuth_deg = 35;
+  float elevation_deg = 30;
+  float distance = 0;
+};
+
+// A camera placed from the octree alone (fov 40 degrees, world +y up), with
+// the direction of `options` (default: azimuth 35, elevation 30 degrees):
+//   far   the object (the bounds of the finest level's bricks, where the
+//         surface is; the domain cube when there is none) framed: the box's
+//         eight corners inside 90% of the narrower field of view;
+//   mid   the same target, 2 times closer;
 //   close aimed at a surface point found by marching the mid view's rays
 //         through the finest level's signed distance hbar (where it changes
 //         sign), from max(8 finest voxels, 2% of the size) away, along a
 //         direction 60 degrees from the surface normal (less when that
 //         direction runs into the surface).
-// `aspect` (width / height) keeps the far view's cube inside the narrower
-// field of view.
-// @throw std::invalid_argument naming `name` and the valid names for an unknown preset.
+// options.distance > 0 puts the eye that many object sizes from the target
+// instead. `aspect` (width / height) keeps the far view's box inside the
+// narrower field of view.
+// @throw std::invalid_argument naming `name` and the valid names for an
+//        unknown preset, or for an elevation outside (-90, 90) or a negative distance.
 // @throw std::runtime_error when the octree has no surface (no finest brick),
 //        or, for close, when no ray of the mid view meets the surface.
-Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect = 1.0f);
+Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect = 1.0f,
+                   const PresetOptions& options = {});
+
+// What presets frame: the bounds of the finest level's bricks (where the
+// surface is), or the domain cube when there is none.
+std::pair<glm::vec3, glm::vec3> object_bounds(const octree::Octree& tree);
+
+// The object's size: the diagonal of the finest level's bricks' bounds (the
+// domain cube's when there is none). Depth of field and --distance are
+// measured in it.
+float object_size(const octree::Octree& tree);
+
+// The default lights of a view: a key light (irradiance 3) from the camera's
+// upper left, a little behind it, and a dim fill (irradiance 0.6) from the
+// right, so that the side the key does not reach still shows its shape.
+std::vector<Light> default_lights(const Camera& camera);
 
 // The first point along origin + t dir (t >= 0, dir need not be unit) where
 // the finest level's trilinear hbar changes sign from outside to inside,

@@ -1,0 +1,119 @@
+#include "cli_hint.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace svo::tools {
+
+namespace {
+
+// Optimal string alignment distance (Damerau-Levenshtein without repeated edits of a substring).
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+std::vector<CLI::App*> commands_of(CLI::App& app) {
+  return app.get_subcommands([](CLI::App* sub) { return !sub->get_name().empty(); });
+}
+
+std::vector<std::string> option_names(CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* opt : app.get_options()) {
+    for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
+    for (const auto& s : opt->get_snames()) names.push_back("-" + s);
+  }
+  return names;
+}
+
+bool has_positionals(CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_positional()) return true;
+  }
+  return false;
+}
+
+// "-x", "--word", "--word=value": an option's name; not "-", "--" or a negative number.
+bool looks_like_option(const std::string& token) {
+  if (token.size() < 2 || token[0] != '-') return false;
+  if (token[1] == '-') return token.size() > 2 && std::isalpha(static_cast<unsigned char>(token[2]));
+  return std::isalpha(static_cast<unsigned char>(token[1]));
+}
+
+std::string with_suggestion(const std::string& what, const std::string& word, const std::vector<std::string>& names) {
+  const std::string best = closest_name(word, names);
+  return best.empty() ? what : what + " (did you mean '" + best + "'?)";
+}
+
+}  // namespace
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
+  std::vector<std::string> prefixed;
+  for (const auto& n : names) {
+    if (n.size() > word.size() && n.compare(0, word.size(), word) == 0) prefixed.push_back(n);
+  }
+  if (prefixed.size() == 1) return prefixed.front();
+  // Distances count the name without its dashes, so that "-" is not free.
+  const size_t dashes = word.find_first_not_of('-') == std::string::npos ? 0 : word.find_first_not_of('-');
+  const size_t limit = std::max<size_t>(1, (word.size() - dashes) / 3);
+  std::string best;
+  size_t best_distance = limit + 1;
+  for (const auto& n : names) {
+    const size_t d = edit_distance(word, n);
+    if (d < best_distance) best = n, best_distance = d;
+  }
+  return best;
+}
+
+CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* argv) {
+  CommandLineHint hint{"svo", ""};
+  CLI::App* current = &app;
+  bool positional_seen = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string token = argv[i];
+    if (token == "--") break;
+    if (looks_like_option(token)) {
+      const std::string name = token.substr(0, token.find('='));
+      const CLI::Option* option = current->get_option_no_throw(name);
+      if (option == nullptr) {
+        hint.message = with_suggestion("unknown option '" + name + "'", name, option_names(*current));
+        return hint;
+      }
+      if (option->get_type_size_min() > 0 && token.find('=') == std::string::npos) ++i;  // its value
+      continue;
+    }
+    const auto subs = commands_of(*current);
+    auto named = std::find_if(subs.begin(), subs.end(), [&](CLI::App* s) { return s->check_name(token); });
+    if (named != subs.end() && !positional_seen) {
+      current = *named;
+      hint.command += " " + current->get_name();
+      continue;
+    }
+    // A word where a command is expected (and no positional argument can take it).
+    if (!subs.empty() && !positional_seen && !has_positionals(*current)) {
+      std::vector<std::string> names;
+      for (CLI::App* s : subs) names.push_back(s->get_name());
+      hint.message = with_suggestion("unknown command '" + token + "'", token, names);
+      return hint;
+    }
+    positional_seen = true;
+  }
+  if (current->get_require_subcommand_min() > 0 && !positional_seen) {
+    std::string names;
+    for (CLI::App* s : commands_of(*current)) names += (names.empty() ? "" : ", ") + s->get_name();
+    hint.message = "a command is required: " + names;
+  }
+  return hint;
+}
+
+}  // namespace svo::tools

@@ -1,0 +1,28 @@
+// "Did you mean" for the command line: when CLI11 refuses a command line,
+// the command it was meant for (so that the error names that command's
+// --help) and, for a mistyped command or option, the closest name there is.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace svo::tools {
+
+struct CommandLineHint {
+  std::string command;  // the deepest command named: "svo", "svo render", "svo bench zoom"
+  std::string message;  // "unknown command 'rendr' (did you mean 'render'?)"; empty: CLI11's own message
+};
+
+// Reads argv as CLI11 would (subcommands by name, options up to '=', "--"
+// ends the options) and finds the first name that is neither a command nor
+// an option of the command it follows.
+CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* argv);
+
+// The name in `names` closest to `word`: the only one that starts with it,
+// else the one at the least edit distance (insertions, deletions,
+// substitutions, transpositions) when that distance is at most a third of
+// the word's length (at least 1); empty when none is that close.
+std::string closest_name(const std::string& word, const std::vector<std::string>& names);
+
+}  // namespace svo::tools
