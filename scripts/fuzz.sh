@@ -4,6 +4,7 @@
 # each one's executions per second and corpus size.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]   targets: svo_load mesh_arrays mesh_file camera texture merl
 #                                            environment material scene_file
+#                                            (also: luminaire tm25 gltf vdb, by name)
 # Installs what it needs (scripts/setup.sh's packages, clang and
 # libclang-rt-14-dev). Builds a Clang tree with AddressSanitizer + UndefinedBehaviorSanitizer and
 # coverage (-fsanitize=fuzzer) in FUZZ_DIR (default build-fuzz). The corpus

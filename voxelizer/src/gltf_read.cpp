@@ -2,8 +2,9 @@
 // tinygltf would trust is checked first or after: the GLB container, the
 // JSON's nesting (its parser recurses), the files it opens (our bounded
 // readers replace its own), and every index and byte range of the model
-// before a byte is read. Images are not decoded by tinygltf (its stb_image
-// has no budget): their bytes go through read_texture.
+// before a byte is read. Images never reach tinygltf (its stb_image has no
+// budget, and 2.7 reads an image's buffer view unchecked): we take them out
+// of the JSON, find their bytes ourselves and decode them by read_texture.
 #include "gltf_read.h"
 
 #include <tiny_gltf.h>
