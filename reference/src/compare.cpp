@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <glm/common.hpp>
 #include <limits>
 
 #include "common/shared_math.h"
+#include "svo/render/text.h"
 
 namespace svo::reference {
 
@@ -192,26 +194,66 @@ double max_pixel_error(const Image& image, const Image& reference) {
   return pixel_error_quantile(image, reference, 1.0);
 }
 
-double pixel_error_quantile(const Image& image, const Image& reference, double q) {
+double pixel_error_quantile(const Image& image, const Image& reference, double q, bool covered_only) {
   const auto ca = rgb_channels(image, "image"), cb = rgb_channels(reference, "reference");
+  const int aa = covered_only ? image.channel("A") : -1, ab = covered_only ? reference.channel("A") : -1;
+  const bool all = aa < 0 || ab < 0;
   std::vector<double> errors;
   errors.reserve(size_t(image.width) * size_t(image.height));
   for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) errors.push_back(std::sqrt(pixel_mse(image, ca, reference, cb, x, y)));
+    for (int x = 0; x < image.width; ++x) {
+      if (all || image.at(x, y, aa) > 0 || reference.at(x, y, ab) > 0) {
+        errors.push_back(std::sqrt(pixel_mse(image, ca, reference, cb, x, y)));
+      }
+    }
   }
   return quantile(errors, q);
 }
 
-render::Frame with_colour_bar(render::Frame frame) {
-  constexpr uint32_t kGap = 4, kBar = 10;
-  const uint32_t w = frame.width;
-  frame.colour.resize(size_t(w) * (frame.height + kGap + kBar), glm::vec4(0, 0, 0, 1));
-  for (uint32_t y = frame.height + kGap; y < frame.height + kGap + kBar; ++y) {
+double default_diff_scale(const Image& image, const Image& reference) {
+  const double scale = pixel_error_quantile(image, reference, kDiffPercentile / 100.0, true);
+  return scale > 0 ? scale : max_pixel_error(image, reference);
+}
+
+namespace {
+
+// The text scale of a colour bar under a frame `width` wide.
+int bar_text_scale(uint32_t width) { return std::max(1, int(width / 320)); }
+
+}  // namespace
+
+uint32_t colour_bar_height(uint32_t width) {
+  // gap, bar, gap, digits, margin
+  return uint32_t(bar_text_scale(width)) * (4 + 10 + 3 + uint32_t(render::kGlyphHeight) + 3);
+}
+
+std::string colour_bar_label(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+render::Frame with_colour_bar(render::Frame frame, double scale) {
+  const int s = bar_text_scale(frame.width);
+  const uint32_t w = frame.width, top = frame.height + uint32_t(4 * s), bar = uint32_t(10 * s);
+  frame.colour.resize(size_t(w) * (frame.height + colour_bar_height(w)), glm::vec4(0, 0, 0, 1));
+  for (uint32_t y = top; y < top + bar; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       frame.colour[size_t(y) * w + x] = glm::vec4(false_colour(w > 1 ? double(x) / double(w - 1) : 1.0), 1.0f);
     }
   }
-  frame.height += kGap + kBar;
+  frame.height += colour_bar_height(w);
+  const int text_y = int(top + bar) + 3 * s, margin = s;
+  const glm::vec3 white(1.0f);
+  const std::string high = colour_bar_label(scale), title = "per-pixel RMS error";
+  const int high_x = int(w) - margin - render::text_width(high, s);
+  render::draw_text(frame, margin, text_y, "0", white, s);
+  render::draw_text(frame, std::max(high_x, margin), text_y, high, white, s);
+  const int title_w = render::text_width(title, s), title_x = (int(w) - title_w) / 2;
+  const int gap = render::kGlyphAdvance * s;
+  if (title_x >= margin + render::text_width("0", s) + gap && title_x + title_w + gap <= high_x) {
+    render::draw_text(frame, title_x, text_y, title, white, s);
+  }
   return frame;
 }
 

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "svo/octree/files.h"
@@ -88,6 +90,9 @@ void write_file(const std::string& path, const char* format_name, const OIIO::Im
   }
 }
 
+// The ImageDescription of an 8-bit file written with a Film, before film_description.
+const std::string kFilmPrefix = "svo film: ";
+
 void check_size(const std::string& path, const Frame& frame, size_t count, const char* what) {
   if (frame.width == 0 || frame.height == 0 || count != size_t(frame.width) * frame.height) {
     throw ImageError(path + ": cannot write: the frame's " + what + " holds " + std::to_string(count) +
@@ -109,11 +114,76 @@ float srgb_to_linear(float s) {
   return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
 }
 
+glm::vec3 parse_colour(const std::string& text) {
+  const std::invalid_argument bad("'" + text + "': expected R,G,B (linear, each in [0, 1]) or #rrggbb (sRGB hex)");
+  glm::vec3 colour(0.0f);
+  if (!text.empty() && text[0] == '#') {
+    if (text.size() != 7) throw bad;
+    for (int c = 0; c < 3; ++c) {
+      int value = 0;
+      for (int k = 0; k < 2; ++k) {
+        const char h = char(std::tolower(static_cast<unsigned char>(text[size_t(1 + 2 * c + k)])));
+        const int digit = h >= '0' && h <= '9' ? h - '0' : h >= 'a' && h <= 'f' ? h - 'a' + 10 : -1;
+        if (digit < 0) throw bad;
+        value = 16 * value + digit;
+      }
+      colour[c] = srgb_to_linear(float(value) / 255.0f);
+    }
+    return colour;
+  }
+  size_t start = 0;
+  for (int c = 0; c < 3; ++c) {
+    const size_t end = c < 2 ? text.find(',', start) : text.size();
+    if (end == std::string::npos) throw bad;
+    const std::string part = text.substr(start, end - start);
+    char* stop = nullptr;
+    const float v = std::strtof(part.c_str(), &stop);
+    if (part.empty() || std::isspace(static_cast<unsigned char>(part[0])) || stop != part.c_str() + part.size() ||
+        !(v >= 0.0f && v <= 1.0f)) {
+      throw bad;
+    }
+    colour[c] = v;
+    start = end + 1;
+  }
+  return colour;
+}
+
 ImageFormat image_format(const std::string& path) {
   std::string ext = extension_of(path);
   if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::Jpeg;
   if (ext == ".exr") return ImageFormat::Exr;
-  throw ImageError(path + ": unsupported image extension '" + ext + "' (use .png or .exr)");
+  throw ImageError(path + ": unsupported image extension '" + ext + "' (use .png, .jpg or .exr)");
+}
+
+bool is_8bit(ImageFormat format) { return format == ImageFormat::Png || format == ImageFormat::Jpeg; }
+
+std::optional<Tonemap> parse_tonemap(const std::string& name) {
+  if (name == "none") return Tonemap::None;
+  if (name == "filmic") return Tonemap::Filmic;
+  return std::nullopt;
+}
+
+const char* tonemap_name(Tonemap tonemap) { return tonemap == Tonemap::Filmic ? "filmic" : "none"; }
+
+float filmic(float x) {
+  if (!(x > 0)) return 0;
+  constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;  // Narkowicz 2015
+  if (x >= 8) return 1;  // past the curve's crossing of 1 (about 7.24); avoids inf / inf
+  return std::min(1.0f, x * (a * x + b) / (x * (c * x + d) + e));
+}
+
+float apply_film(float linear, const Film& film) {
+  if (!(linear > 0)) return 0;  // NaN and negative values
+  const float v = film.exposure_ev == 0 ? linear : linear * std::exp2(film.exposure_ev);
+  return film.tonemap == Tonemap::Filmic ? filmic(v) : std::min(v, 1.0f);
+}
+
+std::string film_description(const Film& film) {
+  if (film == Film{}) return "";
+  char ev[32];
+  std::snprintf(ev, sizeof ev, "%+g", double(film.exposure_ev));
+  return std::string("exposure ") + ev + " EV, tonemap " + tonemap_name(film.tonemap);
 }
 
 void check_writable_output(const std::string& path) {
@@ -124,22 +194,28 @@ void check_writable_output(const std::string& path) {
   }
 }
 
-void write_colour(const std::string& path, const Frame& frame) {
+void write_colour(const std::string& path, const Frame& frame, const Film& film) {
   ImageFormat format = image_format(path);
   check_size(path, frame, frame.colour.size(), "colour");
   const size_t pixels = size_t(frame.width) * frame.height;
-  if (format == ImageFormat::Png) {
+  if (is_8bit(format)) {
     std::vector<uint8_t> bytes(pixels * 3);
     for (size_t i = 0; i < pixels; ++i) {
       for (int c = 0; c < 3; ++c) {
-        float v = frame.colour[i][c];
-        bytes[3 * i + size_t(c)] = uint8_t(std::lround(linear_to_srgb(std::isnan(v) ? 0.0f : v) * 255.0f));
+        const float v = apply_film(frame.colour[i][c], film);
+        bytes[3 * i + size_t(c)] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
       }
     }
     OIIO::ImageSpec spec(int(frame.width), int(frame.height), 3, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     spec.attribute("Software", "svo");
-    write_file(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+    const std::string description = film_description(film);
+    if (!description.empty()) spec.attribute("ImageDescription", kFilmPrefix + description);
+    if (format == ImageFormat::Jpeg) {
+      spec.attribute("Compression", "jpeg:95");
+      spec.attribute("jpeg:subsampling", "4:4:4");  // no chroma blur across a render's colour edges
+    }
+    write_file(path, format == ImageFormat::Png ? "png" : "jpeg", spec, OIIO::TypeDesc::UINT8, bytes.data());
   } else {
     OIIO::ImageSpec spec(int(frame.width), int(frame.height), 4, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B", "A"};
@@ -299,6 +375,8 @@ Image read_image(const std::string& path, uint64_t max_pixels, const std::string
     throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
   }
   const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  const std::string description = spec.get_string_attribute("ImageDescription");
+  if (integer && description.rfind(kFilmPrefix, 0) == 0) image.film = description.substr(kFilmPrefix.size());
   if (integer && spec.get_string_attribute("oiio:ColorSpace") == "sRGB") {
     const size_t n = size_t(spec.nchannels);
     for (size_t i = 0; i < image.pixels.size(); ++i) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 
+#include "svo/render/text.h"
 #include "temp_dir.h"
 
 namespace svo::reference {
@@ -154,12 +155,76 @@ TEST(Compare, PercentileScaleAndColourBar) {
   EXPECT_NEAR(pixel_error_quantile(ours, ref, 1.0), 0.4, 1e-6);
   EXPECT_NEAR(pixel_error_quantile(ours, ref, 1.0), max_pixel_error(ours, ref), 1e-9);
   EXPECT_NEAR(pixel_error_quantile(ours, ref, 0.99), 0.09, 1e-6);
-  const render::Frame bar = with_colour_bar(error_image(ours, ref, 0.09));
+  const render::Frame bar = with_colour_bar(error_image(ours, ref, 0.09), 0.09);
   ASSERT_EQ(bar.width, 10u);
-  ASSERT_EQ(bar.height, 24u);
+  ASSERT_EQ(colour_bar_height(10), 27u);
+  ASSERT_EQ(bar.height, 37u);
   EXPECT_EQ(glm::vec3(bar.colour[size_t(11 * 10)]), glm::vec3(0));  // the gap
   EXPECT_EQ(glm::vec3(bar.colour[size_t(15 * 10)]), false_colour(0.0));
   EXPECT_EQ(glm::vec3(bar.colour[size_t(15 * 10 + 9)]), false_colour(1.0));
+}
+
+// svo compare --diff's default scale: the 99th percentile over covered
+// pixels, so that one outlier does not set it (the diff is not black), and
+// the largest error where fewer than 1 % of the pixels differ.
+TEST(Compare, DefaultDiffScaleIsAPercentileOverCoveredPixels) {
+  // 20 x 20: the left half covered, small errors there and one outlier; the
+  // right half background (alpha 0, no error) that would pull a percentile
+  // over all pixels down.
+  const Image ref = make_image(20, 20, [](int x, int) { return glm::vec4(0.5f, 0.5f, 0.5f, x < 10 ? 1.0f : 0.0f); });
+  const Image ours = make_image(20, 20, [](int x, int y) {
+    const float d = x == 3 && y == 3 ? 0.5f : x < 10 ? 0.02f + 0.002f * float(y % 5) : 0.0f;
+    return glm::vec4(0.5f + d, 0.5f + d, 0.5f + d, x < 10 ? 1.0f : 0.0f);
+  });
+  const double scale = default_diff_scale(ours, ref);
+  EXPECT_NEAR(scale, 0.028, 1e-6);
+  EXPECT_LT(scale, 0.1 * max_pixel_error(ours, ref));
+  EXPECT_NEAR(pixel_error_quantile(ours, ref, 0.5, false), 0.0, 1e-9) << "half the pixels are background";
+  // A typical covered pixel is far from black at this scale, and black at the largest.
+  const render::Frame diff = error_image(ours, ref, scale), worst = error_image(ours, ref, max_pixel_error(ours, ref));
+  const glm::vec4 typical = diff.colour[size_t(7 * 20 + 5)], dark = worst.colour[size_t(7 * 20 + 5)];
+  EXPECT_GT(typical.r + typical.g + typical.b, 0.3f);
+  EXPECT_LT(dark.r + dark.g + dark.b, 0.05f);
+  // One differing pixel of 400: the 99th percentile is 0, the scale its error.
+  const Image one =
+      make_image(20, 20, [](int x, int y) { return glm::vec4(x == 1 && y == 1 ? 0.8f : 0.5f, 0.5f, 0.5f, 1.0f); });
+  EXPECT_NEAR(default_diff_scale(one, ref), 0.3 / std::sqrt(3.0), 1e-6);
+  EXPECT_EQ(default_diff_scale(ref, ref), 0.0);
+}
+
+// The colour bar is labelled: "0" at its left and the scale at its right in
+// white digits under the bar, the title between them where it fits.
+TEST(Compare, ColourBarIsLabelled) {
+  EXPECT_EQ(colour_bar_label(0.0123456), "0.0123");
+  EXPECT_EQ(colour_bar_label(1.5e-05), "1.5e-05");
+  EXPECT_EQ(colour_bar_label(0.25), "0.25");
+  const Image ref = make_image(200, 50, [](int, int) { return glm::vec4(0.5f, 0.5f, 0.5f, 1); });
+  const Image ours = make_image(200, 50, [](int x, int) { return glm::vec4(0.5f + 0.001f * float(x), 0.5f, 0.5f, 1); });
+  const render::Frame f = with_colour_bar(error_image(ours, ref, 0.0123), 0.0123);
+  ASSERT_EQ(f.height, 50u + colour_bar_height(200));
+  // White pixels in the label rows: left (the "0"), right (the scale), middle (the title).
+  auto white_in = [&](uint32_t x0, uint32_t x1) {
+    int n = 0;
+    for (uint32_t y = 50 + 17; y < 50 + 24; ++y) {
+      for (uint32_t x = x0; x < x1; ++x) n += f.colour[size_t(y) * 200 + x] == glm::vec4(1.0f);
+    }
+    return n;
+  };
+  EXPECT_GT(white_in(0, 8), 5) << "the 0";
+  EXPECT_GT(white_in(160, 200), 20) << "the scale, 0.0123";
+  EXPECT_GT(white_in(60, 140), 40) << "per-pixel RMS error";
+  EXPECT_EQ(white_in(8, 40), 0);
+  // The scale's digits exactly: "0.0123" right-aligned, one pixel from the edge.
+  render::Frame label;
+  label.width = 200;
+  label.height = f.height;
+  label.colour.assign(size_t(200) * f.height, glm::vec4(0, 0, 0, 1));
+  render::draw_text(label, 200 - 1 - render::text_width("0.0123"), 50 + 17, "0.0123", glm::vec3(1.0f));
+  for (uint32_t y = 50 + 17; y < 50 + 24; ++y) {
+    for (uint32_t x = 160; x < 200; ++x) {
+      EXPECT_EQ(f.colour[size_t(y) * 200 + x], label.colour[size_t(y) * 200 + x]) << x << "," << y;
+    }
+  }
 }
 
 TEST(Compare, RefusesMismatchedOrBrokenImagesNamingThem) {

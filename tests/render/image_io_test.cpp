@@ -14,6 +14,8 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <limits>
+#include <vector>
 
 #include "temp_dir.h"
 
@@ -21,10 +23,9 @@ namespace svo::render {
 namespace {
 
 namespace fs = std::filesystem;
-using testing::TempDir;
 using testing::FileSizeLimit;
 using testing::names_in;
-
+using testing::TempDir;
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -146,11 +147,11 @@ TEST(ImageIo, GBufferHasEveryChannelExactly) {
   for (int y = 0; y < 9; ++y) {
     for (int x = 0; x < 13; ++x) {
       const GBufferTexel& t = f.gbuffer[size_t(y * 13 + x)];
-      const float expected[] = {t.depth,       t.position.x, t.position.y, t.position.z, t.normal.x,   t.normal.y,
-                                t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,  t.slope_cov.x, t.slope_cov.y,
-                                t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,     t.abar.z,     t.a_s.x,
-                                t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2),
-                                t.material_mix};
+      const float expected[] = {
+          t.depth,       t.position.x, t.position.y, t.position.z,      t.normal.x,         t.normal.y,
+          t.normal.z,    t.tangent.x,  t.tangent.y,  t.tangent.z,       t.slope_cov.x,      t.slope_cov.y,
+          t.slope_cov.z, t.sigma_rho2, t.abar.x,     t.abar.y,          t.abar.z,           t.a_s.x,
+          t.a_s.y,       t.a_s.z,      t.coverage,   float(t.material), float(t.material2), t.material_mix};
       static_assert(std::size(expected) == kGBufferChannels.size());
       for (size_t c = 0; c < kGBufferChannels.size(); ++c) {
         ASSERT_EQ(image.at(x, y, index[c]), expected[c]) << kGBufferChannels[c] << " at " << x << "," << y;
@@ -178,10 +179,10 @@ TEST(ImageIo, StepsImageHoldsEveryPixelsCount) {
 TEST(ImageIo, ErrorsNameThePath) {
   TempDir dir;
   Frame f = test_frame(4, 4);
-  EXPECT_EQ(error_of([&] { write_colour(dir / "a.jpg", f); }),
-            (dir / "a.jpg") + ": unsupported image extension '.jpg' (use .png or .exr)");
+  EXPECT_EQ(error_of([&] { write_colour(dir / "a.bmp", f); }),
+            (dir / "a.bmp") + ": unsupported image extension '.bmp' (use .png, .jpg or .exr)");
   EXPECT_EQ(error_of([&] { write_colour(dir / "noext", f); }),
-            (dir / "noext") + ": unsupported image extension '' (use .png or .exr)");
+            (dir / "noext") + ": unsupported image extension '' (use .png, .jpg or .exr)");
   EXPECT_EQ(error_of([&] { write_gbuffer(dir / "g.png", f); }),
             (dir / "g.png") + ": the G-buffer is written as OpenEXR only (use .exr)");
   Frame no_gbuffer = f;
@@ -273,6 +274,151 @@ TEST(AtomicWrite, DirectoryAtTheNameIsRefused) {
   EXPECT_EQ(message, (dir / "a.png") + ": is a directory; outputs replace only regular files");
   EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"a.png"});
   EXPECT_EQ(read_text(dir / "a.png/keep"), "keep");
+}
+
+// --- Film (issue 21): exposure and tone map of 8-bit outputs; JPEG; --colour.
+
+// A frame of one row whose pixels hold `values` (grey), alpha 1.
+Frame grey_row(const std::vector<float>& values) {
+  Frame f;
+  f.width = uint32_t(values.size());
+  f.height = 1;
+  for (float v : values) f.colour.emplace_back(v, v, v, 1.0f);
+  return f;
+}
+
+// Exposure +1 doubles the linear value before the sRGB encoding: the PNG
+// read back (decoded to linear) holds twice the radiance, within 8 bits.
+TEST(Film, ExposurePlusOneDoublesLinearValues) {
+  TempDir dir;
+  const std::vector<float> values{0.01f, 0.05f, 0.1f, 0.2f, 0.3f, 0.4f};
+  write_colour(dir / "e0.png", grey_row(values));
+  write_colour(dir / "e1.png", grey_row(values), Film{1.0f, Tonemap::None});
+  const Image e0 = read_image(dir / "e0.png"), e1 = read_image(dir / "e1.png");
+  ASSERT_EQ(e1.width, int(values.size()));
+  for (int x = 0; x < e1.width; ++x) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(e0.at(x, 0, c), values[size_t(x)], 0.004f) << "x " << x;
+      EXPECT_NEAR(e1.at(x, 0, c), 2 * values[size_t(x)], 0.004f) << "x " << x;
+    }
+  }
+  EXPECT_EQ(e0.film, "");
+  EXPECT_EQ(e1.film, "exposure +1 EV, tonemap none");
+  // -1 EV halves; without a tone map values past 1 clip.
+  write_colour(dir / "m1.png", grey_row({0.4f, 3.0f}), Film{-1.0f, Tonemap::None});
+  const Image m1 = read_image(dir / "m1.png");
+  EXPECT_NEAR(m1.at(0, 0, 0), 0.2f, 0.004f);
+  EXPECT_EQ(m1.at(1, 0, 0), 1.0f);
+}
+
+// Narkowicz's curve: 0 stays 0, values above 1 land below 1 in order, the
+// curve rises everywhere it is below 1, and a PNG keeps highlights apart
+// that the clamp merges.
+TEST(Film, FilmicMapsAboveOneBelowOneAndKeepsOrder) {
+  EXPECT_EQ(filmic(0.0f), 0.0f);
+  EXPECT_EQ(filmic(-1.0f), 0.0f);
+  EXPECT_EQ(filmic(std::nanf("")), 0.0f);
+  EXPECT_NEAR(filmic(1.0f), 2.54f / 3.16f, 1e-6f);
+  EXPECT_NEAR(filmic(0.18f), 0.26691f, 1e-4f);
+  EXPECT_EQ(filmic(1e30f), 1.0f);
+  EXPECT_EQ(filmic(std::numeric_limits<float>::infinity()), 1.0f);
+  for (float x : {1.5f, 2.0f, 4.0f, 6.0f}) EXPECT_LT(filmic(x), 1.0f) << x;
+  float previous = 0;
+  for (float x = 0.01f; x < 7.2f; x += 0.01f) {
+    EXPECT_GT(filmic(x), previous) << x;
+    previous = filmic(x);
+  }
+  EXPECT_EQ(apply_film(1.0f, Film{1.0f, Tonemap::Filmic}), filmic(2.0f));
+  EXPECT_EQ(apply_film(2.0f, Film{}), 1.0f);
+
+  TempDir dir;
+  const std::vector<float> highlights{0.5f, 1.0f, 1.5f, 2.0f, 4.0f};
+  write_colour(dir / "clip.png", grey_row(highlights));
+  write_colour(dir / "filmic.png", grey_row(highlights), Film{0.0f, Tonemap::Filmic});
+  const Image clip = read_image(dir / "clip.png"), film = read_image(dir / "filmic.png");
+  EXPECT_EQ(film.film, "exposure +0 EV, tonemap filmic");
+  for (int x = 1; x < 5; ++x) EXPECT_EQ(clip.at(x, 0, 0), 1.0f) << "clamped";
+  for (int x = 0; x < 5; ++x) {
+    EXPECT_NEAR(film.at(x, 0, 0), filmic(highlights[size_t(x)]), 0.004f);
+    EXPECT_LT(film.at(x, 0, 0), 1.0f) << x;
+    if (x > 0) {
+      EXPECT_GT(film.at(x, 0, 0), film.at(x - 1, 0, 0)) << x;
+    }
+  }
+}
+
+// EXR holds the radiance as rendered whatever the film: same pixels, no record.
+TEST(Film, ExrUnchangedByTheFilm) {
+  TempDir dir;
+  const Frame f = test_frame(7, 5);
+  write_colour(dir / "plain.exr", f);
+  write_colour(dir / "film.exr", f, Film{3.0f, Tonemap::Filmic});
+  const Image plain = read_image(dir / "plain.exr"), film = read_image(dir / "film.exr");
+  EXPECT_EQ(film.pixels, plain.pixels);
+  EXPECT_EQ(film.film, "");
+  for (size_t i = 0; i < f.colour.size(); ++i) {
+    EXPECT_EQ(film.pixels[4 * i], f.colour[i].r);  // 1.5 stays 1.5
+    EXPECT_EQ(film.pixels[4 * i + 3], f.colour[i].a);
+  }
+  EXPECT_EQ(read_text(dir / "film.exr"), read_text(dir / "plain.exr"));
+}
+
+// .jpg and .jpeg write a baseline JPEG through the same atomic writer; it
+// reads back as sRGB-decoded linear values close to the frame's.
+TEST(Film, JpegWrittenAndReadable) {
+  TempDir dir;
+  EXPECT_EQ(image_format("a.JPG"), ImageFormat::Jpeg);
+  EXPECT_EQ(image_format("a.jpeg"), ImageFormat::Jpeg);
+  EXPECT_TRUE(is_8bit(ImageFormat::Jpeg));
+  EXPECT_FALSE(is_8bit(ImageFormat::Exr));
+  Frame f;
+  f.width = 32;
+  f.height = 16;
+  for (uint32_t y = 0; y < f.height; ++y) {
+    for (uint32_t x = 0; x < f.width; ++x) f.colour.emplace_back(0.6f * x / 32, 0.3f, 0.1f + 0.02f * y, 1.0f);
+  }
+  write_colour(dir / "a.jpg", f, Film{1.0f, Tonemap::None});
+  const std::string bytes = read_text(dir / "a.jpg");
+  ASSERT_GE(bytes.size(), 4u);
+  EXPECT_EQ(uint8_t(bytes[0]), 0xFF);
+  EXPECT_EQ(uint8_t(bytes[1]), 0xD8);  // SOI
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"a.jpg"}) << "no temporary left";
+  const Image im = read_image(dir / "a.jpg");
+  ASSERT_EQ(im.width, 32);
+  ASSERT_EQ(im.height, 16);
+  ASSERT_GE(im.channels.size(), 3u);
+  EXPECT_EQ(im.film, "exposure +1 EV, tonemap none");
+  // Lossy, compared as encoded: each value within 0.05, 0.01 on average.
+  double sum = 0;
+  for (uint32_t y = 0; y < f.height; ++y) {
+    for (uint32_t x = 0; x < f.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const float expected = linear_to_srgb(std::min(1.0f, 2 * f.colour[y * f.width + x][c]));
+        const float got = linear_to_srgb(im.at(int(x), int(y), c));
+        EXPECT_NEAR(got, expected, 0.05f) << x << "," << y << " channel " << c;
+        sum += std::abs(got - expected);
+      }
+    }
+  }
+  EXPECT_LT(sum / (3.0 * f.width * f.height), 0.01);
+}
+
+// --colour's words: linear R,G,B, or #rrggbb decoded from sRGB.
+TEST(Film, ParseColourLinearAndSrgbHex) {
+  const glm::vec3 orange = parse_colour("#ff8000");
+  EXPECT_EQ(orange.r, 1.0f);
+  EXPECT_NEAR(orange.g, 0.21586f, 1e-4f);  // ((128/255 + 0.055) / 1.055)^2.4
+  EXPECT_EQ(orange.b, 0.0f);
+  EXPECT_EQ(parse_colour("#FF8000"), orange);
+  EXPECT_NEAR(parse_colour("#808080").r, 0.21586f, 1e-4f);
+  EXPECT_EQ(parse_colour("0.2,0.5,0.8"), glm::vec3(0.2f, 0.5f, 0.8f));
+  EXPECT_EQ(parse_colour("0,1,1"), glm::vec3(0, 1, 1));
+  EXPECT_EQ(error_of([] { parse_colour("#zz0000"); }),
+            "'#zz0000': expected R,G,B (linear, each in [0, 1]) or #rrggbb (sRGB hex)");
+  for (const char* bad : {"", "#", "#ff80", "#ff80000", "ff8000", "1,2,3", "0.5,0.5", "0.5,0.5,0.5,0.5", "a,b,c",
+                          "nan,0,0", "0.5,,0.5", " 0.5,0.5,0.5", "-0.1,0,0", "0.5,0.5,0.5x"}) {
+    EXPECT_THROW(parse_colour(bad), std::invalid_argument) << "'" << bad << "'";
+  }
 }
 
 }  // namespace

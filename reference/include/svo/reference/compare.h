@@ -72,13 +72,32 @@ glm::vec3 false_colour(double value);
 // compare_images.
 render::Frame error_image(const render::Image& image, const render::Image& reference, double scale);
 
-// The largest per-pixel error error_image would show (its default scale).
+// The largest per-pixel error error_image would show.
 double max_pixel_error(const render::Image& image, const render::Image& reference);
-// Its q-quantile (q in (0, 1]; 1: the largest), a scale that outliers do not set.
-double pixel_error_quantile(const render::Image& image, const render::Image& reference, double q);
+// Its q-quantile (q in (0, 1]; 1: the largest), a scale that outliers do not
+// set. With `covered_only`, over the pixels either image covers (alpha > 0;
+// all pixels when either has no A channel), so that a frame of mostly
+// background does not pull the scale to 0; 0 when no pixel is covered.
+double pixel_error_quantile(const render::Image& image, const render::Image& reference, double q,
+                            bool covered_only = false);
 
-// `frame` (an error_image) with a colour bar below it: 4 black rows, then
-// 10 rows of the colour map from 0 (left) to the scale (right).
-render::Frame with_colour_bar(render::Frame frame);
+// The default scale of svo compare --diff: the 99th percentile of the
+// per-pixel error over covered pixels, or the largest error where that is 0
+// (fewer than 1 % of the pixels differ).
+inline constexpr double kDiffPercentile = 99.0;
+double default_diff_scale(const render::Image& image, const render::Image& reference);
+
+// Height in pixels of the colour bar with_colour_bar adds under a frame `width` wide.
+uint32_t colour_bar_height(uint32_t width);
+// The colour bar's label of a value: 3 significant digits ("0.0123", "1.5e-05").
+std::string colour_bar_label(double value);
+
+// `frame` (an error_image of scale `scale`) with a labelled colour bar
+// below it, all of it colour_bar_height(width) rows at text scale
+// s = max(1, width / 320): 4s black rows, 10s rows of the colour map from 0
+// (left) to the scale (right), then on black, in white 5x7 digits of s x s
+// pixels, "0" at the left, the scale (colour_bar_label) at the right and,
+// where it fits between them, "per-pixel RMS error" in the middle.
+render::Frame with_colour_bar(render::Frame frame, double scale);
 
 }  // namespace svo::reference

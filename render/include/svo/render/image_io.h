@@ -7,15 +7,20 @@
 //   .png  8-bit RGB, sRGB transfer, no alpha. Frame::colour's RGB already
 //         holds the background in the bits no element covered (the tracer
 //         composites), so the PNG is the finished picture; linear radiance
-//         is clamped to [0, 1] before the sRGB transfer.
-//   .exr  32-bit float R, G, B, A, linear radiance as rendered (no clamp);
-//         A = coverage. RGB includes the background, so A records coverage
-//         and is not an associated (premultiplied) alpha.
+//         goes through the Film (exposure, tone map) and is clamped to
+//         [0, 1] before the sRGB transfer.
+//   .jpg, .jpeg  the same as PNG, baseline JPEG at quality 95, chroma not
+//         subsampled (4:4:4).
+//   .exr  32-bit float R, G, B, A, linear radiance as rendered (no clamp,
+//         no Film); A = coverage. RGB includes the background, so A records
+//         coverage and is not an associated (premultiplied) alpha.
 // G-buffer files are .exr only: one 32-bit float channel per field of
 // GBufferTexel (shaders/common/gbuffer.glsl), named in kGBufferChannels.
 #pragma once
 
 #include <array>
+#include <glm/vec3.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,11 +35,41 @@ class ImageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class ImageFormat { Png, Exr };
+enum class ImageFormat { Png, Jpeg, Exr };
+
+// Whether a format stores 8-bit display values (PNG, JPEG), which the Film makes.
+bool is_8bit(ImageFormat format);
 
 // The format of `path` from its extension.
-// @throw ImageError "<path>: unsupported image extension '<ext>' (use .png or .exr)".
+// @throw ImageError "<path>: unsupported image extension '<ext>' (use .png, .jpg or .exr)".
 ImageFormat image_format(const std::string& path);
+
+// How linear radiance becomes an 8-bit picture (PNG, JPEG). Float outputs
+// (EXR) are never touched: they hold the radiance as rendered.
+enum class Tonemap {
+  None,    // clamp to [0, 1]
+  Filmic,  // the ACES filmic curve as fitted by Narkowicz (2015), per channel
+};
+struct Film {
+  float exposure_ev = 0;  // radiance is scaled by 2^exposure_ev first
+  Tonemap tonemap = Tonemap::None;
+  bool operator==(const Film&) const = default;
+};
+
+// "none", "filmic"; nullopt for another name.
+std::optional<Tonemap> parse_tonemap(const std::string& name);
+const char* tonemap_name(Tonemap tonemap);
+
+// Narkowicz's fit of the ACES reference rendering transform: x (2.51 x + 0.03)
+// / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]: 0 -> 0, 0.18 -> 0.27,
+// 1 -> 0.80, 2 -> 0.91, 1 at about 7.2 and above; increasing on [0, 7.2].
+// (K. Narkowicz, "ACES Filmic Tone Mapping Curve", 2015.) NaN and values
+// below 0 give 0.
+float filmic(float linear);
+
+// One linear value as the Film shows it: scaled by 2^exposure_ev, tone
+// mapped, in [0, 1] (display-linear, before the sRGB transfer). NaN gives 0.
+float apply_film(float linear, const Film& film);
 
 // Refuses an output path before any work is done, by the rules of
 // svo::files::OutputFile: its directory must exist and be writable; an
@@ -45,15 +80,21 @@ ImageFormat image_format(const std::string& path);
 //        "<path>: is read-only; ...".
 void check_writable_output(const std::string& path);
 
-// Writes frame.colour as PNG or EXR (see above), atomically.
+// Writes frame.colour as PNG, JPEG or EXR (see above), atomically; `film`
+// applies to PNG and JPEG only. A PNG or JPEG written with a Film other than
+// the default says so in its ImageDescription ("svo film: exposure +1 EV,
+// tonemap filmic"), which read_image returns as Image::film.
 // @throw ImageError for an unsupported extension, a frame whose colour does
 //        not hold width * height pixels, or any failure to write.
-void write_colour(const std::string& path, const Frame& frame);
+void write_colour(const std::string& path, const Frame& frame, const Film& film = {});
+
+// "exposure +1 EV, tonemap filmic"; "" for the default Film.
+std::string film_description(const Film& film);
 
 constexpr std::array<const char*, 24> kGBufferChannels{
-    "depth",        "P.x",        "P.y",    "P.z",    "N.x",    "N.y",      "N.z",       "T.x",
-    "T.y",          "T.z",        "slope_cov.xx", "slope_cov.yy", "slope_cov.xy", "sigma_rho2", "abar.R", "abar.G",
-    "abar.B",       "a_s.R",      "a_s.G",  "a_s.B",  "coverage", "material", "material2", "material_mix"};
+    "depth",  "P.x",   "P.y",          "P.z",          "N.x",          "N.y",        "N.z",       "T.x",
+    "T.y",    "T.z",   "slope_cov.xx", "slope_cov.yy", "slope_cov.xy", "sigma_rho2", "abar.R",    "abar.G",
+    "abar.B", "a_s.R", "a_s.G",        "a_s.B",        "coverage",     "material",   "material2", "material_mix"};
 
 // Writes frame.gbuffer as one multi-channel float EXR, atomically.
 // @throw ImageError when `path` is not .exr, the frame has no G-buffer of
@@ -80,6 +121,9 @@ struct Image {
   int width = 0, height = 0;
   std::vector<std::string> channels;  // names as stored in the file
   std::vector<float> pixels;          // width * height * channels.size()
+  // An 8-bit file's Film as write_colour recorded it (film_description);
+  // "" for a float file or one written without exposure or tone map.
+  std::string film;
 
   // Index of the channel called `name`, or -1.
   int channel(const std::string& name) const;
@@ -112,5 +156,12 @@ Image frame_image(const Frame& frame);
 // The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
+
+// A colour as a user writes it, as linear RGB: "R,G,B" (three linear values
+// in [0, 1]) or "#rrggbb" (hexadecimal sRGB, as colour pickers give it,
+// decoded by srgb_to_linear). Untrusted text.
+// @throw std::invalid_argument "'<text>': expected R,G,B (linear, each in
+//        [0, 1]) or #rrggbb (sRGB hex)" for anything else.
+glm::vec3 parse_colour(const std::string& text);
 
 }  // namespace svo::render
