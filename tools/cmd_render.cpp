@@ -12,8 +12,8 @@
 #include <optional>
 
 #include "commands.h"
-#include "output_checks.h"
 #include "memory.h"
+#include "output_checks.h"
 #include "svo/octree/svo_file.h"
 #include "svo/render/camera.h"
 #include "svo/render/image_io.h"
@@ -80,6 +80,10 @@ nlohmann::json adaptive_json(const render::AdaptivePass::Stats& st, const render
 
 }  // namespace
 
+// The switches of the far-view research (docs/RESULTS.md), kept so that each
+// addition to the paper's cone can be weighed or turned off.
+constexpr const char* kAdvanced = "Advanced: research switches of the far-view work (docs/RESULTS.md)";
+
 void add_render_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "render",
@@ -139,40 +143,40 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Shading");
   cmd->add_option("--seed", a->seed, "Seed of the forward pass's sample sequence")->group("Shading");
   add_lighting_options(*cmd, a->lighting);
-  cmd->add_option("--footprint-spread", a->footprint_spread,
-                  "Weight in [0, 4] of the normals' spread over each cone's footprint, added to the voxels' slope "
-                  "variance (prefiltered and alpha modes); 0: the voxels' statistics alone, as in the paper")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0f, 4.0f))
-      ->group("Shading");
-  cmd->add_flag("--flat-masks", a->flat_masks,
-                "Occlusion masks from the voxels' mean planes alone, as in the paper (default: they bend with the "
-                "surface's curvature along the cone, which keeps convex silhouettes from spreading)")
-      ->group("Shading");
-  cmd->add_flag("--keep-back-facing", a->keep_back_facing,
-                "Shade with mean normals that face away from the eye as they are (default: they are laid into the "
-                "silhouette plane, where a limb's visible normals lie)")
-      ->group("Shading");
-  cmd->add_flag("--shared-normal", a->shared_normal,
-                "Shade every element of a cone with the normal where its axis meets the element's mean plane "
-                "(default: cones at least about a finest voxel wide take half of it from each element's centre)")
-      ->group("Shading");
-  cmd->add_flag("--shade-at-axis", a->shade_at_axis,
-                "Prefiltered: shade every element where the cone's axis meets its mean plane, with the whole "
-                "footprint's spread (default: at the centre of the part of the footprint it covers first, with that "
-                "part's spread)")
-      ->group("Shading");
-  cmd->add_option("--shading-voxel", a->shading_voxel,
-                  "Prefiltered: voxel size of the level shading reads, in cone radii (default 1: its voxels' box and "
-                  "trilinear tent spread as the footprint does; occlusion reads 1.414)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.25f, 4.0f))
-      ->group("Shading");
   add_light_options(*cmd, a->view);
   add_film_options(*cmd, a->film);
   add_filter_options(*cmd, a->filter);
   add_adaptive_options(*cmd, a->adaptive);
   add_luminaire_options(*cmd, a->luminaires);
+  cmd->add_option("--footprint-spread", a->footprint_spread,
+                  "Weight in [0, 4] of the normals' spread over each cone's footprint, added to the voxels' slope "
+                  "variance (prefiltered and alpha modes); 0: the voxels' statistics alone, as in the paper")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 4.0f))
+      ->group(kAdvanced);
+  cmd->add_flag("--flat-masks", a->flat_masks,
+                "Occlusion masks from the voxels' mean planes alone, as in the paper (default: they bend with the "
+                "surface's curvature along the cone, which keeps convex silhouettes from spreading)")
+      ->group(kAdvanced);
+  cmd->add_flag("--keep-back-facing", a->keep_back_facing,
+                "Shade with mean normals that face away from the eye as they are (default: they are laid into the "
+                "silhouette plane, where a limb's visible normals lie)")
+      ->group(kAdvanced);
+  cmd->add_flag("--shared-normal", a->shared_normal,
+                "Shade every element of a cone with the normal where its axis meets the element's mean plane "
+                "(default: cones at least about a finest voxel wide take half of it from each element's centre)")
+      ->group(kAdvanced);
+  cmd->add_flag("--shade-at-axis", a->shade_at_axis,
+                "Prefiltered: shade every element where the cone's axis meets its mean plane, with the whole "
+                "footprint's spread (default: at the centre of the part of the footprint it covers first, with that "
+                "part's spread)")
+      ->group(kAdvanced);
+  cmd->add_option("--shading-voxel", a->shading_voxel,
+                  "Prefiltered: voxel size of the level shading reads, in cone radii (default 1: its voxels' box and "
+                  "trilinear tent spread as the footprint does; occlusion reads 1.414)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.25f, 4.0f))
+      ->group(kAdvanced);
   cmd->add_option("--pass", a->passes,
                   "Add a pass after the tracer (repeatable, run in order): visibility (the visible fraction of each "
                   "light from every surface point, a cone through the octree; write it with --aov visibility=F.exr), "

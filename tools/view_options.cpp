@@ -74,7 +74,7 @@ void add_camera_options(CLI::App& cmd, ViewOptions& o) {
 }
 
 void add_light_options(CLI::App& cmd, ViewOptions& o) {
-  cmd.add_flag("--shadows", o.shadows, "Soft shadows from each light's extent")->group("Shading");
+  cmd.add_flag("--shadows", o.shadows, "Soft shadows from each light's extent")->group("Light");
   cmd.add_option("--light", o.lights,
                  "A light, repeatable up to " + std::to_string(render::kMaxLights) +
                      " (default: a key light from the camera's upper left, irradiance 3, and a fill light from "
@@ -84,7 +84,7 @@ void add_light_options(CLI::App& cmd, ViewOptions& o) {
                      "point:X,Y,Z[,INTENSITY[,RADIUS]] at (X,Y,Z), default intensity gives irradiance 3 at the "
                      "domain centre, radius default 1% of the distance to it")
       ->allow_extra_args(false)  // one light per --light, so that FILE may follow it
-      ->group("Shading");
+      ->group("Light");
 }
 
 void add_film_options(CLI::App& cmd, FilmOptions& o) {
@@ -365,23 +365,23 @@ void add_lighting_options(CLI::App& cmd, LightingOptions& o) {
   cmd.add_option("--env", o.env,
                  "Environment map lighting the scene and seen behind it: latitude-longitude, +Y up, linear RGB "
                  "(EXR or Radiance .hdr; e.g. /usr/share/blender/datafiles/studiolights/world/*.exr)")
-      ->group("Lighting");
+      ->group("Light");
   cmd.add_option("--env-rotate", o.env_rotate, "Turn the environment about +Y by DEG degrees")
       ->check(CLI::Range(-3600.0f, 3600.0f))
-      ->group("Lighting");
+      ->group("Light");
   cmd.add_option("--env-scale", o.env_scale, "Multiply the environment's radiance by S")
       ->check(CLI::Range(0.0f, 1.0e6f))
-      ->group("Lighting");
+      ->group("Light");
   cmd.add_option(
          "--material", o.material,
          "Material JSON: {\"brdf\": \"lambert|beckmann|ggx|phong|merl\", \"diffuse\": [r,g,b], "
          "\"roughness\": a, \"f0\": [r,g,b] or \"ior\": n, \"exponent\": e, \"file\": \"x.binary\"}; "
          "the diffuse part is tinted by the voxels' colour (default: white diffuse and a Beckmann lobe of the file's "
          "roughness, f0 0.04; docs/materials.md)")
-      ->group("Lighting");
+      ->group("Light");
   cmd.add_flag("--env-shadows", o.env_shadows,
                "Environment samples see visibility cones through the octree (off: no visibility, as Bagher et al.)")
-      ->group("Lighting");
+      ->group("Light");
 }
 
 bool uses_lighting(const LightingOptions& o) { return !o.env.empty() || !o.material.empty(); }
