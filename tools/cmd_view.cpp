@@ -32,6 +32,7 @@
 #include "svo/render/vk_context.h"
 #include "svo/render/vk_swapchain.h"
 #include "svo/voxelizer/build.h"
+#include "svo/voxelizer/vdb.h"
 #include "view_options.h"
 #include "view_orbit.h"
 #include "view_window.h"
@@ -52,6 +53,7 @@ struct ViewerOptions {
   int frames = 0;
   std::string screenshot;
   std::string screenshot_dir = ".";
+  std::string grid;  // --grid: the level set of a .vdb input
   double budget_ms = 50;
   bool validate = false;
   LightingOptions lighting;
@@ -59,7 +61,8 @@ struct ViewerOptions {
 };
 
 // The mesh formats voxelizer::read_mesh reads, by extension.
-constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+// (voxelizer::load_vdb reads .vdb level sets.)
+constexpr const char* kMeshExtensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb", ".vdb"};
 
 const char* kKeys =
     "Keys: left-drag orbit, right- or middle-drag pan, wheel or +/- zoom (by factors: deep zoom works),\n"
@@ -91,6 +94,9 @@ void check_input(const ViewerOptions& o, bool resolution_given) {
   if ((o.resolution & (o.resolution - 1)) != 0) {
     throw std::invalid_argument("view: --resolution " + std::to_string(o.resolution) + " is not a power of two");
   }
+  if (!o.grid.empty() && !voxelizer::is_vdb_path(s.input)) {
+    throw std::invalid_argument("view: --grid names a grid of a .vdb input");
+  }
   if (s.input.empty()) return;
   const std::string ext = lower_extension(s.input);
   if (ext == ".svo") {
@@ -100,8 +106,8 @@ void check_input(const ViewerOptions& o, bool resolution_given) {
     }
   } else if (std::find(std::begin(kMeshExtensions), std::end(kMeshExtensions), ext) == std::end(kMeshExtensions)) {
     throw std::invalid_argument("view: " + s.input +
-                                ": not a file svo view opens (an octree: .svo; a mesh, voxelized first: .obj, .ply, "
-                                ".off, .stl, .gltf, .glb)");
+                                ": not a file svo view opens (an octree: .svo; voxelized first: a mesh, .obj, .ply, "
+                                ".off, .stl, .gltf, .glb, or an OpenVDB level set, .vdb)");
   }
 }
 
@@ -117,6 +123,12 @@ octree::Octree load_octree(const ViewerOptions& o) {
   std::unique_ptr<voxelizer::SurfaceSource> source;
   if (!s.scene.empty()) {
     source = make_scene_source(s, /*all_octaves=*/false);
+  } else if (voxelizer::is_vdb_path(s.input)) {
+    voxelizer::VdbOptions vdb;
+    vdb.grid = o.grid;
+    if (s.colour.size() == 3) vdb.colour = glm::vec3(s.colour[0], s.colour[1], s.colour[2]);
+    vdb.sigma_rho = s.roughness;
+    source = voxelizer::load_vdb(s.input, vdb);
   } else {
     source = voxelizer::mesh_source(
         read_source_mesh(s, [](const std::string& line) { std::cerr << "svo: warning: " << line << "\n"; }));
@@ -143,8 +155,8 @@ octree::Octree load_octree(const ViewerOptions& o) {
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f", report.seconds_total);
   std::cout << what << ": voxelized at " << o.resolution << "^3 in " << seconds << " s, " << tree.voxel_count()
-            << " voxels (to keep them: svo voxelize " << input << " --resolution " << o.resolution << " -o " << stem
-            << ".svo)" << std::endl;
+            << " voxels (to keep them: svo voxelize " << input << (o.grid.empty() ? "" : " --grid " + o.grid)
+            << " --resolution " << o.resolution << " -o " << stem << ".svo)" << std::endl;
   return tree;
 }
 
@@ -177,12 +189,14 @@ void add_view_command(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<ViewerOptions>();
   add_source_options(*cmd, opt->source);
   cmd->get_option("input")->description(
-      "An octree (.svo), or a mesh (OBJ, PLY, OFF, STL, glTF) voxelized first at --resolution, with a progress "
-      "bar");
+      "An octree (.svo), or a mesh (OBJ, PLY, OFF, STL, glTF) or OpenVDB level set (.vdb) voxelized first at "
+      "--resolution, with a progress bar");
   cmd->add_option("--resolution", opt->resolution,
                   "A mesh or --scene is voxelized at this many finest cells per axis: a power of two")
       ->default_val(256)
       ->check(CLI::Range(16u, 4096u))
+      ->group("Input");
+  cmd->add_option("--grid", opt->grid, "The grid of a .vdb input, by name (default: its only float level set)")
       ->group("Input");
   auto* window = cmd->add_option_group("Window");
   window->add_option("--width", opt->width, "Window width in pixels")->default_val(800)->check(CLI::Range(16, 8192));

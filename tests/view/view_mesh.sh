@@ -18,7 +18,7 @@ message=$(env -u DISPLAY -u WAYLAND_DISPLAY "$svo" view "$work/notes.txt" 2>&1)
 status=$?
 echo "$message"
 [ $status -eq 1 ] || { echo "exit $status, expected 1"; exit 1; }
-[ "$message" = "svo: view: $work/notes.txt: not a file svo view opens (an octree: .svo; a mesh, voxelized first: .obj, .ply, .off, .stl, .gltf, .glb)" ] ||
+[ "$message" = "svo: view: $work/notes.txt: not a file svo view opens (an octree: .svo; voxelized first: a mesh, .obj, .ply, .off, .stl, .gltf, .glb, or an OpenVDB level set, .vdb)" ] ||
   { echo "unexpected message"; exit 1; }
 
 for tool in xvfb-run script; do
