@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
@@ -433,7 +434,13 @@ TEST(VdbHostile, RefusedWithOneLine) {
   write_bytes(temp_dir() / "cut.vdb", bytes.substr(0, bytes.size() / 2));
   expect_vdb_refused(temp_dir() / "cut.vdb", "");
   write_bytes(temp_dir() / "text.vdb", "not a vdb file at all");
-  expect_vdb_refused(temp_dir() / "text.vdb", "not an OpenVDB file");
+  expect_vdb_refused(temp_dir() / "text.vdb", "not a .vdb file (no VDB magic number)");
+  // A metadata value claiming 2 GiB: OpenVDB would allocate and zero it.
+  std::string huge = bytes;
+  const uint32_t size = 0x7fffffff;
+  std::memcpy(&huge[at - 4], &size, 4);
+  write_bytes(temp_dir() / "huge_meta.vdb", huge);
+  expect_vdb_refused(temp_dir() / "huge_meta.vdb", "grid 0's metadata entry 0 runs past its end");
   fs::remove(temp_dir() / "zero.vdb");
   fs::create_symlink("/dev/zero", temp_dir() / "zero.vdb");
   expect_vdb_refused(temp_dir() / "zero.vdb", "character device");
