@@ -296,16 +296,18 @@ void run_speed_error(const SpeedErrorArgs& a) {
     const auto& h = headline[v];
     const double ours_ms = h["prefiltered_ms"].get<double>();
     std::string says;
+    // "12.3x faster", or for a ratio below one "4.2x slower".
+    auto ratio = [](double f) { return f >= 1 ? fmt(f, 1) + "x faster" : fmt(1 / f, 1) + "x slower"; };
     if (h.contains("speedup")) {
-      says = fmt(h["speedup"].get<double>(), 1) + "x faster";
+      says = ratio(h["speedup"].get<double>());
     } else if (h.contains("speedup_at_least")) {
-      says = "at least " + fmt(h["speedup_at_least"].get<double>(), 1) + "x faster (more accurate than " +
+      says = "at least " + ratio(h["speedup_at_least"].get<double>()) + " (more accurate than " +
              h["compared_with"].get<std::string>() + " beyond the noise)";
     } else if (h.contains("tie")) {
       says = "tie: relMSE " + sci(h["prefiltered_relmse"].get<double>()) + " against " +
              sci(h["tied_relmse"].get<double>()) + " for " + h["tied_with"].get<std::string>() + ", within the " +
-             fmt(100 * a.tie_tolerance, 0) + "% noise; " + fmt(ours_ms, 2) + " ms against " +
-             fmt(h["tied_ms"].get<double>(), 2) + " ms";
+             fmt(100 * a.tie_tolerance, 0) + "% noise; prefiltered " + fmt(ours_ms, 2) + " ms, " +
+             h["tied_with"].get<std::string>() + " " + fmt(h["tied_ms"].get<double>(), 2) + " ms";
     } else {
       says = "none: less accurate than 1 ray per pixel";
     }
