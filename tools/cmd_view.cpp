@@ -29,6 +29,7 @@
 #include "svo/render/image_io.h"
 #include "svo/render/passes.h"
 #include "svo/render/renderer.h"
+#include "svo/render/text.h"
 #include "svo/render/vk_context.h"
 #include "svo/render/vk_swapchain.h"
 #include "svo/voxelizer/build.h"
@@ -68,9 +69,49 @@ const char* kKeys =
     "Keys: left-drag orbit, right- or middle-drag pan, wheel or +/- zoom (by factors: deep zoom works),\n"
     "F orbit around the surface under the cursor, 1-4 mode (prefiltered, nearest, alpha, mip),\n"
     "S shadows on/off, R back to the far view, P or F12 screenshot at the window's size\n"
-    "(svo-view-NNNN.png, never overwritten; its name is printed), H or F1 this list, Esc or Q quit.";
+    "(svo-view-NNNN.png, never overwritten; its name is printed), H or F1 these keys over the view (and on\n"
+    "stdout), Esc or Q quit.";
 
 const char* kTitleKeys = "H keys, P screenshot, Q quit";
+
+// The overlay H shows, one key a line (render/text.h draws capitals).
+constexpr const char* kOverlay[] = {"DRAG    ORBIT",
+                                    "R-DRAG  PAN (OR MIDDLE)",
+                                    "WHEEL   ZOOM (OR + -)",
+                                    "F       ORBIT CURSOR POINT",
+                                    "1 2 3 4 PREFILT NEAR ALPHA MIP",
+                                    "S       SHADOWS ON/OFF",
+                                    "R       RESET THE VIEW",
+                                    "P F12   SCREENSHOT",
+                                    "H F1    HIDE THE KEYS",
+                                    "ESC Q   QUIT"};
+
+// Draws kOverlay over frame.display (8-bit sRGB RGBA words, R in the low
+// byte) at the top left: a box darkened to 30% and the lines in white,
+// `scale` pixels a font cell. Parts beyond the frame are left out.
+void draw_overlay(render::Frame& frame, int scale) {
+  const int pad = 4 * scale, line = (render::kGlyphHeight + 4) * scale;
+  int width = 0;
+  for (const char* text : kOverlay) width = std::max(width, render::text_width(text, scale));
+  const int lines = int(std::size(kOverlay));
+  render::Frame text;
+  text.width = uint32_t(std::min(int(frame.width), width + 2 * pad));
+  text.height = uint32_t(std::min(int(frame.height), lines * line - 4 * scale + 2 * pad));
+  text.colour.assign(size_t(text.width) * text.height, glm::vec4(0));
+  for (int i = 0; i < lines; ++i) render::draw_text(text, pad, pad + i * line, kOverlay[i], glm::vec3(1), scale);
+  for (uint32_t y = 0; y < text.height; ++y) {
+    for (uint32_t x = 0; x < text.width; ++x) {
+      uint32_t& p = frame.display[size_t(y) * frame.width + x];
+      if (text.colour[size_t(y) * text.width + x].r > 0.5f) {
+        p = 0xffffffffu;
+      } else {
+        uint32_t out = p & 0xff000000u;
+        for (int c = 0; c < 3; ++c) out |= (((p >> (8 * c)) & 0xffu) * 3 / 10) << (8 * c);
+        p = out;
+      }
+    }
+  }
+}
 
 std::string format_ms(double ms) {
   char text[32];
@@ -338,7 +379,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
     const auto kSettle = std::chrono::milliseconds(200);
     Clock::time_point last_motion{};
     double moving_scale = scale, ms_per_pixel = -1, present_ms = 0;
-    bool dirty = true, shown = false, focus = false, minimised = false, refine = false;
+    bool dirty = true, shown = false, focus = false, minimised = false, refine = false, help = false;
     uint32_t shot_width = fb_width, shot_height = fb_height;  // the window's last size not minimised
     int frames = 0;
     while (true) {
@@ -389,10 +430,11 @@ void add_view_command(CLI::App& app, int& exit_code) {
             shot = true;
             break;
           case Window::kHelp:
-            std::cout << kKeys << std::endl;
+            help = !help;
+            if (help) std::cout << kKeys << std::endl;
             break;
         }
-        if (key != Window::kScreenshot && key != Window::kHelp) dirty = true;
+        if (key != Window::kScreenshot) dirty = true;
       }
       if (quit || win->closing()) break;
       if (in.rotate_x != 0 || in.rotate_y != 0) orbit.rotate(in.rotate_x, in.rotate_y, win_height), motion = true;
@@ -442,6 +484,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
         }
         focus = false;
         const double render_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        // The keys over the still view (a moving frame is too coarse for text).
+        if (help && !moving && !frame.display.empty()) {
+          draw_overlay(frame, std::max(1, int(std::lround(2.0 * frame.width / fb_width))));
+        }
         bool ok = swapchain.present(pixels(), frame.width, frame.height);
         if (!ok) {
           win->framebuffer_size(fb_width, fb_height);

@@ -2,7 +2,8 @@
 # svo view's keys and moving frames under Xvfb, driven by xdotool (labels:
 # cli, view). Skipped (exit 77) without xvfb-run or xdotool.
 # usage: view_keys.sh CASE SVO IMAGE_CHECK OCTREE OUT_DIR
-#   title       the title lists the keys; H prints them on stdout
+#   title       the title lists the keys; H prints them on stdout and shows
+#               them over the view (its top left darkens), a second H hides them
 #   screenshot  P and F12 write svo-view-NNNN.png at the window's size (400 x
 #               300, rendered at 200 x 150), numbered after an existing
 #               svo-view-0001.png, which is left as it was; each name printed
@@ -53,9 +54,31 @@ CASE="$case" SVO="$svo" OCTREE="$octree" WORK="$work" xvfb-run -a -s "-screen 0 
     title)
       echo "title: $(title)"
       title | grep -q "H keys, P screenshot, Q quit" || { echo "the title does not list the keys"; kill $pid; exit 1; }
+      # The overlay: the window'"'"'s top left darkens with white text on H, and
+      # is as before on the second H (where ImageMagick can capture the window).
+      capture() {  # NAME: the window as NAME.png
+        sleep 1.5
+        import -window "$window" "$WORK/$1.png"
+      }
+      differ() {  # A B: the mean absolute difference of the top-left 180 x 110 pixels, 0 to 1
+        convert "$WORK/$1.png" "$WORK/$2.png" -compose difference -composite -crop 180x110+0+0 -format "%[fx:mean]" info:
+      }
+      magick=""
+      command -v import >/dev/null 2>&1 && command -v convert >/dev/null 2>&1 && capture before && magick=yes
       xdotool key --window "$window" h
       wait_stdout "^Keys: " "H"
       grep -q "P or F12 screenshot" "$WORK/stdout.txt" || { echo "H printed no screenshot key"; kill $pid; exit 1; }
+      if [ -n "$magick" ]; then
+        capture shown
+        xdotool key --window "$window" h
+        capture hidden
+        shown=$(differ before shown) hidden=$(differ before hidden)
+        echo "top left against the view before H: $shown with the keys shown, $hidden hidden again"
+        awk -v b="$shown" -v c="$hidden" "BEGIN { exit !(b > 0.03 && c < 0.005) }" ||
+          { echo "H did not show the keys over the view, or the second H did not hide them"; kill $pid; exit 1; }
+      else
+        echo "ImageMagick (import, convert) not found: overlay part skipped"
+      fi
       ;;
     screenshot)
       xdotool key --window "$window" p
