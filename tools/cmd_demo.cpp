@@ -50,6 +50,7 @@ struct DemoArgs {
   uint32_t octaves = 3;
   std::string device;
   bool json = false;
+  FilmOptions film;
 };
 
 // One frame of the demo: what it shows, its time, its error against the ground truth.
@@ -208,7 +209,7 @@ void run_demo(const DemoArgs& a) {
                                            std::to_string(a.resolution) + " VOXELS PER AXIS",
                                        "ONE CONE PER PIXEL; GROUND TRUTH " + std::to_string(a.spp) + " RAYS PER PIXEL" +
                                            (zoom > 1 ? "; PIXELS SHOWN " + std::to_string(zoom) + "X" : "")};
-  render::write_colour(sheet_path, contact_sheet(views, a.size, zoom, a.spp, title));
+  render::write_colour(sheet_path, contact_sheet(views, a.size, zoom, a.spp, title), make_film(a.film));
 
   // --- The report.
   if (a.json) {
@@ -283,6 +284,7 @@ void add_demo_command(CLI::App& app, int& exit_code) {
       ->default_val(4)
       ->check(CLI::Range(1u, 4096u))
       ->group("Scene");
+  add_film_options(*cmd, a->film);
   cmd->add_option("--device", a->device, kDeviceHelp)->group("Output");
   cmd->add_flag("--json", a->json, "Print one JSON object on stdout instead of text")->group("Output");
   cmd->callback([a, &exit_code] {

@@ -347,6 +347,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
       s.width = std::max(1u, width);
       s.height = std::max(1u, height);
       s.camera = orbit.camera();
+      s.lights = render::default_lights(s.camera);  // the key and fill follow the camera
       s.display = display;
       s.gbuffer = false;
       render::Frame f = renderer.render(s);
@@ -466,6 +467,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
         settings.width = std::max(1u, uint32_t(std::lround(fb_width * frame_scale)));
         settings.height = std::max(1u, uint32_t(std::lround(fb_height * frame_scale)));
         settings.camera = orbit.camera();
+        settings.lights = render::default_lights(settings.camera);
         settings.gbuffer = focus;
         frame = renderer.render(settings);
         check_validation();

@@ -13,6 +13,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "svo 0.1.0");
   app.footer(
+      "Outputs: -o names the file a command writes (render, reference, voxelize, export) or, for commands that "
+      "write several files (demo, flythrough, bench), their directory, created if missing. Two outputs of one "
+      "command may not name one file, and an output's extension must say what it holds (.svo, .vdb, .png, .jpg, "
+      ".exr).\n"
       "Files: inputs must be regular files (a FIFO or a device is refused before it is read). Every output is "
       "written to a temporary name beside it (NAME.tmp-PID-N, created exclusively) and renamed over NAME when "
       "complete, so a failure or a kill leaves the earlier file as it was; temporaries of killed runs are removed "

@@ -24,9 +24,9 @@ namespace svo::render {
 namespace {
 
 constexpr float kPresetFov = 40.0f;
-constexpr float kAzimuth = 35.0f, kElevation = 30.0f;  // degrees: the 3/4 elevated view of far and mid
-constexpr float kMidCloser =
-    2.0f;  // about the distance of the former mid view (a third of the whole domain's far view)
+// mid: 2x closer than the framed far view, about as close as 3x closer than
+// the whole domain's far view (PresetOptions::whole_domain).
+constexpr float kMidCloser = 2.0f, kDomainMidCloser = 3.0f;
 constexpr float kFrameFill = 0.9f;       // the far view's object spans at most 90% of the narrower field
 constexpr float kFillIrradiance = 0.6f;  // the default fill light: a fifth of the key's 3
 constexpr float kCloseVoxels = 8.0f, kCloseFraction = 0.02f;
@@ -274,7 +274,21 @@ std::vector<glm::vec3> framed_points(const octree::Octree& tree) {
   return points;
 }
 
+// The whole domain cube in frame (PresetOptions::whole_domain).
+Camera domain_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+  Camera c;
+  c.fov_deg = kPresetFov;
+  c.target = tree.origin + glm::vec3(0.5f * tree.size);
+  const float half_v = glm::radians(0.5f * kPresetFov), half_h = std::atan(std::tan(half_v) * aspect);
+  const float radius = 0.5f * std::sqrt(3.0f) * tree.size;  // the cube's bounding sphere
+  const glm::vec3 dir = preset_direction(p);
+  c.up = up_for(-dir);
+  c.eye = c.target + dir * (radius / std::sin(std::min(half_v, half_h)));
+  return c;
+}
+
 Camera far_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+  if (p.whole_domain) return domain_view(tree, aspect, p);
   const auto [lo, hi] = framed_box(tree);
   const glm::vec3 dir = preset_direction(p);
   Camera c;
@@ -291,16 +305,23 @@ Camera mid_view(const octree::Octree& tree, float aspect, const PresetOptions& p
   if (!surface_bounds(tree)) {
     throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
   }
-  Camera c = far_view(tree, aspect, PresetOptions{p.azimuth_deg, p.elevation_deg, 0});
+  PresetOptions framed = p;
+  framed.distance = 0;
+  Camera c = far_view(tree, aspect, framed);
   const glm::vec3 dir = preset_direction(p);
   const auto [lo, hi] = framed_box(tree);
   const float size = glm::length(hi - lo);
-  c.eye = c.target + dir * (p.distance > 0 ? p.distance * size : glm::length(c.eye - c.target) / kMidCloser);
+  const float far_distance = glm::length(c.eye - c.target);
+  const float closer = p.whole_domain ? kDomainMidCloser : kMidCloser;
+  c.target = 0.5f * (lo + hi);
+  c.eye = c.target + dir * (p.distance > 0 ? p.distance * size : far_distance / closer);
   return c;
 }
 
 Camera close_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
-  Camera mid = mid_view(tree, aspect, PresetOptions{p.azimuth_deg, p.elevation_deg, 0});
+  PresetOptions framed = p;
+  framed.distance = 0;
+  Camera mid = mid_view(tree, aspect, framed);
   DistanceSampler sampler(tree);
   glm::vec3 forward = glm::normalize(mid.target - mid.eye);
   glm::vec3 right = glm::normalize(glm::cross(forward, mid.up));

@@ -37,7 +37,10 @@ void expect_prefiltered_wins(const std::string& name, voxelizer::SurfaceSource& 
   octree::Octree tree = voxelizer::voxelize(source, vo);
   render::RenderSettings s;
   s.width = s.height = size;
-  s.camera = render::view_preset(tree, "far");
+  // The far view of this work: the whole domain framed, a pixel over many voxels.
+  render::PresetOptions presets;
+  presets.whole_domain = true;
+  s.camera = render::view_preset(tree, "far", 1.0f, presets);
   ReferenceSettings rs;
   rs.render = s;
   rs.spp = 64;

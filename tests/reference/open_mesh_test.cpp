@@ -102,7 +102,10 @@ TEST_P(OpenMesh, MatchesItsReference) {
   octree::Octree tree = voxelizer::voxelize(*source, vo);
   render::RenderSettings s;
   s.width = s.height = 96;
-  s.camera = render::view_preset(tree, c.view);
+  // The presets the thresholds were calibrated on (the whole domain framed).
+  render::PresetOptions presets;
+  presets.whole_domain = true;
+  s.camera = render::view_preset(tree, c.view, 1.0f, presets);
   const render::Image ours = render::frame_image(render::render_cpu(tree, s));
   ReferenceSettings rs;
   rs.render = s;
