@@ -20,6 +20,7 @@
 #include "svo/octree/files.h"
 #include "svo/voxelizer/mesh.h"
 #include "svo/voxelizer/vdb.h"
+#include "vdb_bricks.h"
 
 namespace svo::voxelizer {
 
@@ -180,25 +181,9 @@ class VdbSource : public SurfaceSource {
   }
 
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
-    std::vector<glm::ivec3> out;
-    const int B = int(brick_size), limit = int(lattice_.resolution / brick_size);
-    const float half = 0.5f * float(lattice_.voxel);
-    for (auto leaf = distance_->tree().cbeginLeaf(); leaf; ++leaf) {
-      bool surface = false;
-      for (auto v = leaf->cbeginValueOn(); v && !surface; ++v) surface = std::abs(*v) <= half;
-      if (!surface) continue;
-      const openvdb::CoordBBox box = leaf->getNodeBoundingBox();
-      glm::ivec3 lo(box.min().x(), box.min().y(), box.min().z()), hi(box.max().x(), box.max().y(), box.max().z());
-      glm::ivec3 blo = glm::max(glm::ivec3(0), glm::ivec3(glm::floor(glm::vec3(lo) / float(B))));
-      glm::ivec3 bhi = glm::min(glm::ivec3(limit - 1), glm::ivec3(glm::floor(glm::vec3(hi) / float(B))));
-      for (int z = blo.z; z <= bhi.z; ++z)
-        for (int y = blo.y; y <= bhi.y; ++y)
-          for (int x = blo.x; x <= bhi.x; ++x) out.emplace_back(x, y, z);
-    }
-    std::sort(out.begin(), out.end(),
-              [](glm::ivec3 a, glm::ivec3 b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); });
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+    // Within half a voxel of the surface.
+    return bricks_near_surface(*distance_, 0.5f * float(lattice_.voxel), int(brick_size),
+                               int(lattice_.resolution / brick_size));
   }
 
   using SurfaceSource::evaluate;
