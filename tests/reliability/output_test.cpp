@@ -174,7 +174,7 @@ TEST(Output, ReadOnlyAndNonRegularOutputsAreRefusedFirst) {
 
   // voxelize into a directory: refused before the work (it used to voxelize
   // first and fail at the rename).
-  const std::string sub = dir / "sub";
+  const std::string sub = dir / "sub.svo";  // named as an octree, so that the extension check passes
   fs::create_directory(sub);
   o = run_svo({"voxelize", "--scene", "bumpy-sphere", "--resolution", "256", "-o", sub});
   EXPECT_EQ(o.status, 1);
