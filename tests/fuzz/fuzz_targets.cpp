@@ -148,10 +148,10 @@ int mesh_arrays(const uint8_t* data, size_t size) {
   return 1;
 }
 
-int mesh_file(const uint8_t* data, size_t size) {
-  if (size < 1) return 0;
-  static const char* kExtensions[] = {".obj", ".off", ".ply", ".stl"};
-  TempFile file(data + 1, size - 1, kExtensions[data[0] % 4]);
+// Reads the bytes as a mesh file named with `extension`; every corner read
+// must name a vertex and every face must have a colour.
+static int read_mesh_bytes(const uint8_t* data, size_t size, const char* extension) {
+  TempFile file(data, size, extension);
   try {
     voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file.path);
     for (size_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -167,22 +167,15 @@ int mesh_file(const uint8_t* data, size_t size) {
   }
 }
 
+int mesh_file(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  static const char* kExtensions[] = {".obj", ".off", ".ply", ".stl"};
+  return read_mesh_bytes(data + 1, size - 1, kExtensions[data[0] % 4]);
+}
+
 int gltf(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  TempFile file(data + 1, size - 1, data[0] % 2 ? ".glb" : ".gltf");
-  try {
-    voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file.path);
-    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-      for (int k = 0; k < 3; ++k) {
-        if (mesh.triangles[f][k] < 0 || size_t(mesh.triangles[f][k]) >= mesh.positions.size())
-          broken("corner out of range");
-      }
-      (void)mesh.colour(f, glm::dvec3(1.0 / 3));
-    }
-    return 1;
-  } catch (const std::runtime_error& e) {
-    return refused(e);
-  }
+  return read_mesh_bytes(data + 1, size - 1, data[0] % 2 ? ".glb" : ".gltf");
 }
 
 int vdb(const uint8_t* data, size_t size) {
