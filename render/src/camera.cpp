@@ -178,47 +178,46 @@ class DistanceSampler {
   float voxel_;
 };
 
-// The lower corners of the finest level's bricks (where the surface is) and their edge length.
-struct FinestBricks {
-  std::vector<glm::vec3> corners;
-  float size = 0;
+// What the presets frame: the finest level's bricks (where the surface is),
+// or the domain cube standing in as one brick when there are none.
+struct Framed {
+  std::vector<glm::vec3> corners;  // lower corners of the bricks
+  float size = 0;                  // their edge
+  glm::vec3 lo{0}, hi{0};          // their bounds
+  bool surface = false;            // whether the octree has a finest brick
 };
 
-FinestBricks finest_bricks(const octree::Octree& tree) {
-  FinestBricks out;
-  if (tree.nodes.empty() || tree.depth_count == 0) return out;
-  const uint32_t finest = tree.depth_count - 1;
-  out.size = tree.size / float(1u << finest);
-  struct Item {
-    uint32_t node, depth;
-    glm::ivec3 coords;
-  };
-  std::vector<Item> stack{{0, 0, glm::ivec3(0)}};
-  while (!stack.empty()) {
-    Item item = stack.back();
-    stack.pop_back();
-    if (item.node >= tree.nodes.size()) continue;
-    const octree::Node& node = tree.nodes[item.node];
-    if (item.depth == finest) {
-      if (node.brick != octree::kNone) out.corners.push_back(tree.origin + glm::vec3(item.coords) * out.size);
-      continue;
-    }
-    if (node.children == octree::kNone) continue;
-    for (uint32_t i = 0; i < 8; ++i) {
-      glm::ivec3 o(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-      stack.push_back({node.children + i, item.depth + 1, item.coords * 2 + o});
+Framed framed(const octree::Octree& tree) {
+  Framed out;
+  if (!tree.nodes.empty() && tree.depth_count > 0) {
+    const uint32_t finest = tree.depth_count - 1;
+    out.size = tree.size / float(1u << finest);
+    struct Item {
+      uint32_t node, depth;
+      glm::ivec3 coords;
+    };
+    std::vector<Item> stack{{0, 0, glm::ivec3(0)}};
+    while (!stack.empty()) {
+      Item item = stack.back();
+      stack.pop_back();
+      if (item.node >= tree.nodes.size()) continue;
+      const octree::Node& node = tree.nodes[item.node];
+      if (item.depth == finest) {
+        if (node.brick != octree::kNone) out.corners.push_back(tree.origin + glm::vec3(item.coords) * out.size);
+        continue;
+      }
+      if (node.children == octree::kNone) continue;
+      for (uint32_t i = 0; i < 8; ++i) {
+        glm::ivec3 o(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+        stack.push_back({node.children + i, item.depth + 1, item.coords * 2 + o});
+      }
     }
   }
+  out.surface = !out.corners.empty();
+  if (!out.surface) out.corners = {tree.origin}, out.size = tree.size;
+  out.lo = glm::vec3(1e30f), out.hi = glm::vec3(-1e30f);
+  for (glm::vec3 a : out.corners) out.lo = glm::min(out.lo, a), out.hi = glm::max(out.hi, a + glm::vec3(out.size));
   return out;
-}
-
-// Bounds of the finest level's bricks; nullopt without any.
-std::optional<std::pair<glm::vec3, glm::vec3>> surface_bounds(const octree::Octree& tree) {
-  const FinestBricks bricks = finest_bricks(tree);
-  if (bricks.corners.empty()) return std::nullopt;
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  for (glm::vec3 a : bricks.corners) lo = glm::min(lo, a), hi = glm::max(hi, a + glm::vec3(bricks.size));
-  return std::make_pair(lo, hi);
 }
 
 glm::vec3 preset_direction(const PresetOptions& p) {
@@ -232,46 +231,25 @@ glm::vec3 up_for(glm::vec3 forward) {
   return glm::vec3(0, 0, -1);
 }
 
-// What the far view frames: the surface's bounds, or the domain cube when
-// the octree holds no surface.
-std::pair<glm::vec3, glm::vec3> framed_box(const octree::Octree& tree) {
-  if (auto b = surface_bounds(tree)) return *b;
-  return {tree.origin, tree.origin + glm::vec3(tree.size)};
-}
-
-// The least distance from `centre` along `dir` at which every point of
-// `points` lies inside kFrameFill of the field of view: a point q (from the
-// centre) at lateral offsets x, y and depth D - q.dir needs
+// The least distance from `centre` along `dir` at which every corner of the
+// framed bricks lies inside kFrameFill of the field of view: a corner q
+// (from the centre) at lateral offsets x, y and depth D - q.dir needs
 // D >= |x| / tan_h + q.dir (and the same with y, tan_v).
-float framing_distance(const std::vector<glm::vec3>& points, glm::vec3 centre, glm::vec3 dir, glm::vec3 up,
-                       float aspect) {
+float framing_distance(const Framed& f, glm::vec3 centre, glm::vec3 dir, glm::vec3 up, float aspect) {
   const glm::vec3 forward = -dir;
   const glm::vec3 right = glm::normalize(glm::cross(forward, up)), true_up = glm::cross(right, forward);
   const float tv = std::tan(glm::radians(0.5f * kPresetFov)) * kFrameFill, th = tv * aspect;
   float distance = 0, reach = 0;
-  for (glm::vec3 p : points) {
-    const glm::vec3 q = p - centre;
-    const float need = std::max(std::abs(glm::dot(q, right)) / th, std::abs(glm::dot(q, true_up)) / tv);
-    distance = std::max(distance, need + glm::dot(q, dir));
-    reach = std::max(reach, glm::length(q));
+  for (glm::vec3 a : f.corners) {
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 q = a + f.size * glm::vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1) - centre;
+      const float need = std::max(std::abs(glm::dot(q, right)) / th, std::abs(glm::dot(q, true_up)) / tv);
+      distance = std::max(distance, need + glm::dot(q, dir));
+      reach = std::max(reach, glm::length(q));
+    }
   }
   // Never inside the object: beyond its farthest point from the centre.
   return std::max(distance, 1.05f * reach);
-}
-
-// The corners of the bricks the far view frames (the domain cube's when there are none).
-std::vector<glm::vec3> framed_points(const octree::Octree& tree) {
-  FinestBricks bricks = finest_bricks(tree);
-  if (bricks.corners.empty()) {
-    bricks.corners.push_back(tree.origin);
-    bricks.size = tree.size;
-  }
-  std::vector<glm::vec3> points;
-  points.reserve(bricks.corners.size() * 8);
-  for (glm::vec3 a : bricks.corners) {
-    for (int i = 0; i < 8; ++i) points.push_back(a + bricks.size * glm::vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-  }
-  return points;
 }
 
 // The whole domain cube in frame (PresetOptions::whole_domain).
@@ -287,41 +265,36 @@ Camera domain_view(const octree::Octree& tree, float aspect, const PresetOptions
   return c;
 }
 
-Camera far_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
+Camera far_view(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
   if (p.whole_domain) return domain_view(tree, aspect, p);
-  const auto [lo, hi] = framed_box(tree);
   const glm::vec3 dir = preset_direction(p);
   Camera c;
   c.fov_deg = kPresetFov;
-  c.target = 0.5f * (lo + hi);
+  c.target = 0.5f * (f.lo + f.hi);
   c.up = up_for(-dir);
-  const float distance = p.distance > 0 ? p.distance * glm::length(hi - lo)
-                                        : framing_distance(framed_points(tree), c.target, dir, c.up, aspect);
+  const float distance =
+      p.distance > 0 ? p.distance * glm::length(f.hi - f.lo) : framing_distance(f, c.target, dir, c.up, aspect);
   c.eye = c.target + dir * distance;
   return c;
 }
 
-Camera mid_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
-  if (!surface_bounds(tree)) {
-    throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
-  }
-  PresetOptions framed = p;
-  framed.distance = 0;
-  Camera c = far_view(tree, aspect, framed);
-  const glm::vec3 dir = preset_direction(p);
-  const auto [lo, hi] = framed_box(tree);
-  const float size = glm::length(hi - lo);
+Camera mid_view(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
+  if (!f.surface) throw std::runtime_error("view mid: the octree holds no surface (no brick at the finest level)");
+  PresetOptions framing = p;
+  framing.distance = 0;
+  Camera c = far_view(tree, f, aspect, framing);
   const float far_distance = glm::length(c.eye - c.target);
   const float closer = p.whole_domain ? kDomainMidCloser : kMidCloser;
-  c.target = 0.5f * (lo + hi);
-  c.eye = c.target + dir * (p.distance > 0 ? p.distance * size : far_distance / closer);
+  c.target = 0.5f * (f.lo + f.hi);
+  c.eye =
+      c.target + preset_direction(p) * (p.distance > 0 ? p.distance * glm::length(f.hi - f.lo) : far_distance / closer);
   return c;
 }
 
-Camera close_view(const octree::Octree& tree, float aspect, const PresetOptions& p) {
-  PresetOptions framed = p;
-  framed.distance = 0;
-  Camera mid = mid_view(tree, aspect, framed);
+Camera close_view(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
+  PresetOptions framing = p;
+  framing.distance = 0;
+  Camera mid = mid_view(tree, f, aspect, framing);
   DistanceSampler sampler(tree);
   glm::vec3 forward = glm::normalize(mid.target - mid.eye);
   glm::vec3 right = glm::normalize(glm::cross(forward, mid.up));
@@ -344,8 +317,7 @@ Camera close_view(const octree::Octree& tree, float aspect, const PresetOptions&
   }
   if (!hit) throw std::runtime_error("view close: no ray of the mid view meets the surface");
 
-  const auto [lo, hi] = framed_box(tree);
-  const float distance = p.distance > 0 ? p.distance * glm::length(hi - lo)
+  const float distance = p.distance > 0 ? p.distance * glm::length(f.hi - f.lo)
                                         : std::max(kCloseVoxels * sampler.voxel(), kCloseFraction * tree.size);
   glm::vec3 n = hit->normal, towards_viewer = -ray;
   glm::vec3 tangent = towards_viewer - n * glm::dot(n, towards_viewer);
@@ -379,10 +351,13 @@ std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 
 
 std::vector<std::string> view_preset_names() { return {"far", "mid", "close"}; }
 
-std::pair<glm::vec3, glm::vec3> object_bounds(const octree::Octree& tree) { return framed_box(tree); }
+std::pair<glm::vec3, glm::vec3> object_bounds(const octree::Octree& tree) {
+  const Framed f = framed(tree);
+  return {f.lo, f.hi};
+}
 
 float object_size(const octree::Octree& tree) {
-  const auto [lo, hi] = framed_box(tree);
+  const auto [lo, hi] = object_bounds(tree);
   return glm::length(hi - lo);
 }
 
@@ -405,9 +380,9 @@ Camera view_preset(const octree::Octree& tree, std::string_view name, float aspe
     throw std::invalid_argument(
         "view preset: azimuth must be finite, elevation within (-90, 90) degrees and distance >= 0");
   }
-  if (name == "far") return far_view(tree, aspect, options);
-  if (name == "mid") return mid_view(tree, aspect, options);
-  if (name == "close") return close_view(tree, aspect, options);
+  if (name == "far") return far_view(tree, framed(tree), aspect, options);
+  if (name == "mid") return mid_view(tree, framed(tree), aspect, options);
+  if (name == "close") return close_view(tree, framed(tree), aspect, options);
   throw std::invalid_argument("unknown view '" + printable(name) + "' (views: far, mid, close)");
 }
 
