@@ -121,14 +121,13 @@ render::Frame contact_sheet(const std::vector<std::pair<std::string, std::vector
               glm::vec4(glm::vec3(p) + (1.0f - p.a) * background, 1.0f);
         }
       }
-      glm::vec3 colour = grey;
       if (shots[c].errors) {
         render::draw_text(sheet, x0 + 2, y0 + tile + 3, "RELMSE " + relmse_text(shots[c].errors->relmse),
                           shots[c].errors->relmse <= best ? good : bad, scale);
       } else {
         render::draw_text(sheet, x0 + 2, y0 + tile + 3, std::to_string(spp) + " RAYS PER PIXEL", grey, scale);
       }
-      render::draw_text(sheet, x0 + 2, y0 + tile + 3 + line, time_text(shots[c].ms), colour, scale);
+      render::draw_text(sheet, x0 + 2, y0 + tile + 3 + line, time_text(shots[c].ms), grey, scale);
     }
   }
   return sheet;
