@@ -441,6 +441,37 @@ TEST(VdbHostile, RefusedWithOneLine) {
   std::memcpy(&huge[at - 4], &size, 4);
   write_bytes(temp_dir() / "huge_meta.vdb", huge);
   expect_vdb_refused(temp_dir() / "huge_meta.vdb", "grid 0's metadata entry 0 runs past its end");
+  // A root tile, inserted after the root's tile and child counts: OpenVDB's
+  // RootNode::readTopology reads its "active" byte straight into a bool.
+  auto with_root_tile = [&](char active) {
+    std::string b = bytes;
+    const std::string map = "UniformScaleTranslateMap", type = "Tree_float_5_4_3";
+    const size_t m = b.find(map), d = b.find(type);
+    if (m == std::string::npos || d == std::string::npos) return std::string();
+    const size_t counts = m + map.size() + 6 * 24 + 4 + 4;  // the map, buffer count, background
+    const uint32_t one = 1;
+    std::memcpy(&b[counts], &one, 4);
+    std::string tile(17, '\0');
+    const int32_t origin[3] = {8 * 4096, 0, -4096};
+    std::memcpy(&tile[0], origin, 12);
+    std::memcpy(&tile[12], &b[counts - 4], 4);  // the background
+    tile[16] = active;
+    b.insert(counts + 8, tile);
+    // The grid's block and end positions, after its type and empty parent.
+    int64_t p[3];
+    std::memcpy(p, &b[d + type.size() + 4], 24);
+    p[1] += 17, p[2] += 17;
+    std::memcpy(&b[d + type.size() + 4], p, 24);
+    return b;
+  };
+  const std::string inactive = with_root_tile(0);
+  ASSERT_FALSE(inactive.empty());
+  write_bytes(temp_dir() / "tile0.vdb", inactive);
+  EXPECT_NO_THROW(voxelizer::load_vdb((temp_dir() / "tile0.vdb").string()));
+  write_bytes(temp_dir() / "tile1.vdb", with_root_tile(1));
+  expect_vdb_refused(temp_dir() / "tile1.vdb", "active voxels, more than the limit of 1e9");
+  write_bytes(temp_dir() / "tile2.vdb", with_root_tile(2));
+  expect_vdb_refused(temp_dir() / "tile2.vdb", "grid 0's root tile 0 has active flag 2 (0 or 1 expected)");
   fs::remove(temp_dir() / "zero.vdb");
   fs::create_symlink("/dev/zero", temp_dir() / "zero.vdb");
   expect_vdb_refused(temp_dir() / "zero.vdb", "character device");

@@ -47,10 +47,13 @@ std::string describe(const openvdb::GridBase& g) {
 
 // The parts of a .vdb file OpenVDB 10 trusts before it reads a grid's
 // tree, checked against the file's size: the header, the file's metadata,
-// the grid descriptors (names, positions) and each grid's metadata. OpenVDB
-// allocates and zeroes a metadata value of the size the file states (a
-// 9 KB file asking for gigabytes timed out the vdb fuzz target). Returns ""
-// or the problem. Files older than format 222 (OpenVDB 3) are refused.
+// the grid descriptors (names, positions), each grid's metadata and
+// transform, and the root of each float tree. OpenVDB allocates and zeroes
+// a metadata value of the size the file states (a 9 KB file asking for
+// gigabytes timed out the vdb fuzz target), and reads a root tile's
+// "active" byte straight into a bool (undefined for any byte but 0 and 1).
+// Returns "" or the problem. Files older than format 222 (OpenVDB 3) are
+// refused.
 std::string screen_vdb(const std::string& path, uint64_t size) {
   std::ifstream in(path, std::ios::binary);
   uint64_t at = 0;
@@ -70,6 +73,33 @@ std::string screen_vdb(const std::string& path, uint64_t size) {
   auto string = [&](uint64_t end) {
     uint32_t n = 0;
     return u32(n) && skip(n, end);
+  };
+  // A string's text where it is short (type names); longer ones skipped.
+  auto text = [&](uint64_t end, std::string& out) {
+    uint32_t n = 0;
+    out.clear();
+    if (!u32(n)) return false;
+    if (n > 64) return skip(n, end);
+    out.resize(n);
+    return n <= end - std::min(at, end) && read(out.data(), n);
+  };
+  // A transform: its map's type name and data (math/Maps.h: Vec3d 24
+  // bytes, Mat4d 128; a frustum holds a box, taper, depth and a second map).
+  auto transform = [&](uint64_t end, const std::string& what) -> std::string {
+    for (int depth = 0; depth < 2; ++depth) {
+      std::string type;
+      if (!text(end, type)) return what + " transform truncated";
+      static const std::pair<const char*, uint64_t> kMaps[] = {
+          {"AffineMap", 128},          {"UnitaryMap", 128},           {"ScaleMap", 5 * 24},
+          {"UniformScaleMap", 5 * 24}, {"ScaleTranslateMap", 6 * 24}, {"UniformScaleTranslateMap", 6 * 24},
+          {"TranslationMap", 24}};
+      for (const auto& [name, bytes] : kMaps) {
+        if (type == name) return skip(bytes, end) ? "" : what + " transform truncated";
+      }
+      if (type != "NonlinearFrustumMap" || depth > 0) return what + " transform has an unknown map \"" + type + "\"";
+      if (!skip(2 * 24 + 2 * 8, end)) return what + " transform truncated";
+    }
+    return "";
   };
   // A MetaMap: count, then name, type name and a sized value each.
   auto metadata = [&](uint64_t end, const std::string& what) -> std::string {
@@ -98,24 +128,52 @@ std::string screen_vdb(const std::string& path, uint64_t size) {
   if (std::string why = metadata(size, "the file's"); !why.empty()) return why;
   uint32_t grids = 0;
   if (!u32(grids)) return "VDB grid count truncated";
-  std::vector<std::array<int64_t, 3>> positions;
+  struct Grid {
+    std::array<int64_t, 3> p{};  // grid, block (buffers) and end positions
+    bool float_tree = false;     // its topology is read here
+  };
+  std::vector<Grid> grid_list;
   for (uint32_t g = 0; g < grids; ++g) {
-    std::array<int64_t, 3> p{};
-    if (!string(size) || !string(size) || !string(size) || !read(p.data(), 24)) {
+    Grid grid;
+    std::string type, parent;
+    if (!string(size) || !text(size, type) || !text(size, parent) || !read(grid.p.data(), 24)) {
       return "VDB grid descriptor " + std::to_string(g) + " runs past the end of the file";
     }
+    const std::array<int64_t, 3>& p = grid.p;
     if (p[0] < 0 || p[0] > p[1] || p[1] > p[2] || uint64_t(p[2]) > size) {
       return "VDB grid " + std::to_string(g) + " lies outside the file (positions " + std::to_string(p[0]) + ", " +
              std::to_string(p[1]) + ", " + std::to_string(p[2]) + " in " + std::to_string(size) + " bytes)";
     }
-    positions.push_back(p);
+    // An instance shares its parent's tree and reads no topology.
+    grid.float_tree = parent.empty() && (type == "Tree_float_5_4_3" || type == "Tree_float_5_4_3_HalfFloat");
+    grid_list.push_back(grid);
   }
-  for (size_t g = 0; g < positions.size(); ++g) {
-    at = uint64_t(positions[g][0]);
+  for (size_t g = 0; g < grid_list.size(); ++g) {
+    const std::string what = "grid " + std::to_string(g) + "'s";
+    const uint64_t end = uint64_t(grid_list[g].p[1]);
+    at = uint64_t(grid_list[g].p[0]);
     uint32_t compression = 0;
     if (!u32(compression)) return "VDB grid " + std::to_string(g) + " truncated";
-    if (std::string why = metadata(uint64_t(positions[g][1]), "grid " + std::to_string(g) + "'s"); !why.empty()) {
-      return why;
+    if (std::string why = metadata(end, what); !why.empty()) return why;
+    if (std::string why = transform(end, what); !why.empty()) return "VDB " + why;
+    if (!grid_list[g].float_tree) continue;
+    // Tree::readTopology and RootNode::readTopology: buffer count,
+    // background, tile and child counts, then each tile's origin, value
+    // and active byte.
+    int32_t buffers = 0;
+    float background = 0;
+    uint32_t tiles = 0, children = 0;
+    if (!read(&buffers, 4) || !read(&background, 4) || !u32(tiles) || !u32(children) ||
+        uint64_t(tiles) * 17 > end - std::min(at, end)) {
+      return "VDB " + what + " tree runs past its end";
+    }
+    for (uint32_t t = 0; t < tiles; ++t) {
+      std::array<char, 17> tile;
+      read(tile.data(), tile.size());
+      if (tile[16] != 0 && tile[16] != 1) {
+        return "VDB " + what + " root tile " + std::to_string(t) + " has active flag " +
+               std::to_string(int(uint8_t(tile[16]))) + " (0 or 1 expected)";
+      }
     }
   }
   return "";
