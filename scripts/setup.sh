@@ -25,7 +25,8 @@ PACKAGES=(
   zlib1g-dev                               # needed by FindOpenVDB.cmake
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
   libtinygltf-dev                          # glTF 2.0 input (.gltf, .glb); images decoded by OpenImageIO
-  libopenimageio-dev                       # textures; PNG and EXR output
+  libopenimageio-dev                       # images read (textures, environment maps, svo compare)
+  libopenexr-dev libpng-dev libjpeg-dev    # images written (EXR, PNG, JPEG), and read by svo-render
   libtbb-dev                               # parallel loops
   libfftw3-dev                             # windowed-FFT reference bandwidth (render/bandwidth.h)
   libglfw3-dev                             # the window of svo view

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <exception>
+#include <iostream>
+#include <new>
 
 namespace svo::tools {
 
@@ -76,7 +79,7 @@ std::string closest_name(const std::string& word, const std::vector<std::string>
 }
 
 CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* argv) {
-  CommandLineHint hint{"svo", ""};
+  CommandLineHint hint{app.get_name().empty() ? "svo" : app.get_name(), ""};
   CLI::App* current = &app;
   bool positional_seen = false;
   for (int i = 1; i < argc; ++i) {
@@ -114,6 +117,35 @@ CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* ar
     hint.message = "a command is required: " + names;
   }
   return hint;
+}
+
+int run_command_line(CLI::App& app, const std::string& version, int argc, char** argv, const int& exit_code) {
+  const std::string program = app.get_name();
+  app.set_version_flag("--version", version);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << version << "\n";
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    const CommandLineHint hint = command_line_hint(app, argc, argv);
+    std::cerr << hint.command << ": " << (hint.message.empty() ? std::string(e.what()) : hint.message) << " (see "
+              << hint.command << " --help)\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << program << ": out of host memory (an allocation failed); try a smaller --resolution or image size\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": " << e.what() << "\n";
+    return 1;
+  }
+  return exit_code;
 }
 
 }  // namespace svo::tools

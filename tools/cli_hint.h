@@ -25,4 +25,10 @@ CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* ar
 // the word's length (at least 1); empty when none is that close.
 std::string closest_name(const std::string& word, const std::vector<std::string>& names);
 
+// The body of main() for svo and svo-render: parses argv into `app` (named
+// after the program, with its commands added) and runs the command; help
+// and version on stdout, any error as one line "<command>: <message>" on
+// stderr with exit code 1. Returns the exit code.
+int run_command_line(CLI::App& app, const std::string& version, int argc, char** argv, const int& exit_code);
+
 }  // namespace svo::tools

@@ -13,6 +13,14 @@ inline constexpr const char* kDeviceHelp =
     "(e.g. llvmpipe, Vulkan on the CPU, for tests). Default: a discrete GPU, then an integrated one, then native; "
     "see svo devices";
 
+// The help's footer on files, for svo and svo-render.
+inline constexpr const char* kFilesFooter =
+    "Files: inputs must be regular files (a FIFO or a device is refused before it is read). Every output is "
+    "written to a temporary name beside it (NAME.tmp-PID-N, created exclusively) and renamed over NAME when "
+    "complete, so a failure or a kill leaves the earlier file as it was; temporaries of killed runs are removed "
+    "by the next write of NAME. A symbolic link at NAME is written through to its target, which keeps its mode; "
+    "a read-only file, a directory or a device at NAME is refused before any work.";
+
 void add_bench_command(CLI::App& app, int& exit_code);
 // svo bench zoom, registered on the bench subcommand by add_bench_command.
 void add_bench_zoom_command(CLI::App& bench, int& exit_code);

@@ -1,9 +1,5 @@
 #include "svo/render/image_io.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -11,8 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "image_codec.h"
 #include "svo/octree/files.h"
-#include "svo/octree/image_header.h"
 
 namespace svo::render {
 
@@ -20,78 +16,35 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// OpenImageIO's messages may span lines: one line for the user.
-std::string one_line(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  std::replace(text.begin(), text.end(), '\n', ';');
-  return text.empty() ? "unknown OpenImageIO error" : text;
-}
-
 std::string extension_of(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
 }
 
-// OpenImageIO writes through this into an OutputFile: every write checked
-// (its PNG writer ignores failed writes: a full disk left a truncated image
-// that was then renamed into place) and the first failure kept.
-class OutputProxy final : public OIIO::Filesystem::IOProxy {
- public:
-  explicit OutputProxy(files::OutputFile& file) : IOProxy(file.temporary(), Write), file_(file) {}
-  const char* proxytype() const override { return "svo::files::OutputFile"; }
-  void close() override { m_mode = Closed; }
-  size_t write(const void* data, size_t size) override {
-    size_t n = pwrite(data, size, m_pos);
-    m_pos += int64_t(n);
-    return n;
-  }
-  size_t pwrite(const void* data, size_t size, int64_t offset) override {
-    if (!failure.empty() || offset < 0) return 0;
-    try {
-      file_.write_at(data, size, uint64_t(offset));
-    } catch (const files::FileError& e) {
-      failure = e.what();
-      return 0;
-    }
-    end_ = std::max(end_, uint64_t(offset) + size);
-    return size;
-  }
-  size_t size() const override { return size_t(end_); }
-  std::string failure;  // the first failed write's message
-
- private:
-  files::OutputFile& file_;
-  uint64_t end_ = 0;
-};
-
-// Writes `spec` and `data` (of `type`) to `path` in the format `format_name`
-// ("png", "openexr") through an OutputFile.
-void write_file(const std::string& path, const char* format_name, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                const void* data) {
+// Encoded bytes (PNG, JPEG) to `path` through an OutputFile: every write
+// checked, fsync, rename.
+void write_bytes(const std::string& path, const std::vector<uint8_t>& bytes) {
   try {
     files::OutputFile file(path);
-    OutputProxy proxy(file);
-    auto out = OIIO::ImageOutput::create(format_name);
-    if (!out) throw ImageError(path + ": cannot write: " + one_line(OIIO::geterror()));
-    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
-      throw ImageError(path + ": cannot write: OpenImageIO's " + format_name + " writer takes no I/O proxy");
-    }
-    bool ok = out->open(file.temporary(), spec) && out->write_image(type, data);
-    std::string error = ok ? "" : one_line(out->geterror());
-    if (!out->close() && ok) ok = false, error = one_line(out->geterror());
-    if (!proxy.failure.empty()) throw ImageError(proxy.failure);
-    if (!ok) throw ImageError(path + ": cannot write: " + error);
+    file.write_at(bytes.data(), bytes.size(), 0);
     file.commit();
-  } catch (const ImageError&) {
-    throw;
-  } catch (const std::runtime_error& e) {
+  } catch (const files::FileError& e) {
     throw ImageError(e.what());
   }
 }
 
-// The ImageDescription of an 8-bit file written with a Film, before film_description.
-const std::string kFilmPrefix = "svo film: ";
+// Channel-interleaved floats to `path` as OpenEXR through an OutputFile.
+void write_float_exr(const std::string& path, uint32_t width, uint32_t height, const std::vector<std::string>& names,
+                     const float* data) {
+  try {
+    files::OutputFile file(path);
+    codec::write_exr(file, path, width, height, names, data);
+    file.commit();
+  } catch (const files::FileError& e) {
+    throw ImageError(e.what());
+  }
+}
 
 void check_size(const std::string& path, const Frame& frame, size_t count, const char* what) {
   if (frame.width == 0 || frame.height == 0 || count != size_t(frame.width) * frame.height) {
@@ -101,18 +54,6 @@ void check_size(const std::string& path, const Frame& frame, size_t count, const
 }
 
 }  // namespace
-
-float linear_to_srgb(float x) {
-  if (!(x > 0)) return 0;
-  if (x >= 1) return 1;
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-float srgb_to_linear(float s) {
-  if (!(s > 0)) return 0;
-  if (s >= 1) return 1;
-  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
 
 glm::vec3 parse_colour(const std::string& text) {
   const std::invalid_argument bad("'" + text + "': expected R,G,B (linear, each in [0, 1]) or #rrggbb (sRGB hex)");
@@ -206,24 +147,18 @@ void write_colour(const std::string& path, const Frame& frame, const Film& film)
         bytes[3 * i + size_t(c)] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
       }
     }
-    OIIO::ImageSpec spec(int(frame.width), int(frame.height), 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("Software", "svo");
     const std::string description = film_description(film);
-    if (!description.empty()) spec.attribute("ImageDescription", kFilmPrefix + description);
-    if (format == ImageFormat::Jpeg) {
-      spec.attribute("Compression", "jpeg:95");
-      spec.attribute("jpeg:subsampling", "4:4:4");  // no chroma blur across a render's colour edges
-    }
-    write_file(path, format == ImageFormat::Png ? "png" : "jpeg", spec, OIIO::TypeDesc::UINT8, bytes.data());
+    std::vector<uint8_t> encoded;
+    const std::string why =
+        format == ImageFormat::Png
+            ? codec::encode_png(frame.width, frame.height, bytes.data(),
+                                description.empty() ? "" : codec::kFilmPrefix + description, encoded)
+            : codec::encode_jpeg(frame.width, frame.height, bytes.data(),
+                                 description.empty() ? "" : codec::kFilmPrefix + description, 95, encoded);
+    if (!why.empty()) throw ImageError(path + ": cannot write: " + why);
+    write_bytes(path, encoded);
   } else {
-    OIIO::ImageSpec spec(int(frame.width), int(frame.height), 4, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B", "A"};
-    spec.alpha_channel = 3;
-    spec.attribute("oiio:ColorSpace", "Linear");
-    spec.attribute("compression", "zip");
-    spec.attribute("Software", "svo");
-    write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, frame.colour.data());
+    write_float_exr(path, frame.width, frame.height, {"R", "G", "B", "A"}, &frame.colour[0].r);
   }
 }
 
@@ -240,16 +175,6 @@ void gbuffer_channels(const GBufferTexel& t, float* out) {
   std::copy(std::begin(values), std::end(values), out);
 }
 
-void write_float_exr(const std::string& path, uint32_t width, uint32_t height, const std::vector<std::string>& names,
-                     const std::vector<float>& data) {
-  OIIO::ImageSpec spec(int(width), int(height), int(names.size()), OIIO::TypeDesc::FLOAT);
-  spec.channelnames = names;
-  spec.alpha_channel = -1;
-  spec.attribute("compression", "zip");
-  spec.attribute("Software", "svo");
-  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
-}
-
 }  // namespace
 
 void write_gbuffer(const std::string& path, const Frame& frame) {
@@ -260,7 +185,7 @@ void write_gbuffer(const std::string& path, const Frame& frame) {
   const size_t pixels = size_t(frame.width) * frame.height, n = kGBufferChannels.size();
   std::vector<float> data(pixels * n);
   for (size_t i = 0; i < pixels; ++i) gbuffer_channels(frame.gbuffer[i], data.data() + i * n);
-  write_float_exr(path, frame.width, frame.height, {kGBufferChannels.begin(), kGBufferChannels.end()}, data);
+  write_float_exr(path, frame.width, frame.height, {kGBufferChannels.begin(), kGBufferChannels.end()}, data.data());
 }
 
 void write_aov(const std::string& path, Renderer& renderer, const std::string& name) {
@@ -304,7 +229,7 @@ void write_aov(const std::string& path, Renderer& renderer, const std::string& n
       break;
     }
   }
-  write_float_exr(path, w, h, names, data);
+  write_float_exr(path, w, h, names, data.data());
 }
 
 void write_steps(const std::string& path, const Frame& frame) {
@@ -312,18 +237,8 @@ void write_steps(const std::string& path, const Frame& frame) {
     throw ImageError(path + ": the steps image is written as OpenEXR only (use .exr)");
   }
   check_size(path, frame, frame.steps.size(), "steps image");
-  std::vector<float> data(frame.steps.begin(), frame.steps.end());
-  OIIO::ImageSpec spec(int(frame.width), int(frame.height), 1, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"steps"};
-  spec.alpha_channel = -1;
-  spec.attribute("compression", "zip");
-  spec.attribute("Software", "svo");
-  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, data.data());
-}
-
-int Image::channel(const std::string& name) const {
-  auto it = std::find(channels.begin(), channels.end(), name);
-  return it == channels.end() ? -1 : int(it - channels.begin());
+  const std::vector<float> data(frame.steps.begin(), frame.steps.end());
+  write_float_exr(path, frame.width, frame.height, {"steps"}, data.data());
 }
 
 Image frame_image(const Frame& frame) {
@@ -334,56 +249,6 @@ Image frame_image(const Frame& frame) {
   im.pixels.reserve(frame.colour.size() * 4);
   for (const auto& c : frame.colour) im.pixels.insert(im.pixels.end(), {c.r, c.g, c.b, c.a});
   return im;
-}
-
-Image read_image(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
-  try {
-    files::require_regular_file(path, "an image");
-  } catch (const files::FileError& e) {
-    throw ImageError(e.what());
-  }
-  // Checks in front of the format libraries, which trust their headers.
-  for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
-    if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
-  }
-  // The reader of the file's extension only: OpenImageIO's open() would
-  // otherwise try every format it knows on a file its extension's rejects.
-  auto in = OIIO::ImageInput::create(path, false);
-  if (!in) throw ImageError(path + ": cannot read: " + one_line(OIIO::geterror()));
-  OIIO::ImageSpec spec;
-  if (!in->open(path, spec)) throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
-    throw ImageError(path + ": not a 2D image");
-  }
-  // From the header, before the allocation: a forged size is refused here.
-  if (uint64_t(spec.width) * uint64_t(spec.height) > max_pixels) {
-    throw ImageError(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                     " pixels, more than the limit of " + std::to_string(max_pixels) +
-                     (limit_option.empty() ? "" : " (" + limit_option + ")"));
-  }
-  if (double(spec.width) * double(spec.height) * double(spec.nchannels) > kMaxImageSamples) {
-    throw ImageError(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
-                     std::to_string(spec.nchannels) + " samples, more than the limit of 2^28");
-  }
-  Image image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.channels = spec.channelnames;
-  image.channels.resize(size_t(spec.nchannels));  // one name per channel, whatever the file says
-  image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
-  }
-  const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
-  const std::string description = spec.get_string_attribute("ImageDescription");
-  if (integer && description.rfind(kFilmPrefix, 0) == 0) image.film = description.substr(kFilmPrefix.size());
-  if (integer && spec.get_string_attribute("oiio:ColorSpace") == "sRGB") {
-    const size_t n = size_t(spec.nchannels);
-    for (size_t i = 0; i < image.pixels.size(); ++i) {
-      if (int(i % n) != spec.alpha_channel) image.pixels[i] = srgb_to_linear(image.pixels[i]);
-    }
-  }
-  return image;
 }
 
 }  // namespace svo::render

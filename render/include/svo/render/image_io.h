@@ -1,4 +1,8 @@
-// Frames to image files and back, through OpenImageIO. Every write goes to a
+// Frames to image files and back. Writes go through libpng, libjpeg and
+// OpenEXR directly (no OpenImageIO, so that svo-render links no format
+// plugins); read_image has two implementations, chosen at link time: the
+// svo_render library reads any format OpenImageIO reads, svo_render_core
+// with svo_image_read_direct (svo-render) reads OpenEXR and PNG only. Every write goes to a
 // temporary file in the target's directory, is flushed to disk and renamed
 // over the target: a crash or a failed write never leaves a half-written
 // file under the final name nor destroys the file that was there.
@@ -19,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <glm/vec3.hpp>
 #include <optional>
 #include <stdexcept>
@@ -126,7 +131,11 @@ struct Image {
   std::string film;
 
   // Index of the channel called `name`, or -1.
-  int channel(const std::string& name) const;
+  int channel(const std::string& name) const {
+    for (size_t c = 0; c < channels.size(); ++c)
+      if (channels[c] == name) return int(c);
+    return -1;
+  }
   float at(int x, int y, int c) const {
     return pixels[(size_t(y) * size_t(width) + size_t(x)) * channels.size() + size_t(c)];
   }
@@ -137,7 +146,7 @@ inline constexpr double kMaxImageSamples = 268435456.0;  // 2^28: 1 GiB of float
 // as RGBA floats.
 inline constexpr uint64_t kDefaultMaxImagePixels = uint64_t(1) << 25;
 
-// Reads any image OpenImageIO reads, as float. 8- and 16-bit files in the
+// Reads any image OpenImageIO reads (svo-render: OpenEXR and PNG only), as float. 8- and 16-bit files in the
 // sRGB colour space (PNG, as written here) are converted to linear values,
 // so that a PNG and an EXR of the same frame compare directly.
 // Only a regular file is opened (a FIFO or a link to /dev/zero would hang
@@ -154,8 +163,16 @@ Image read_image(const std::string& path, uint64_t max_pixels = kDefaultMaxImage
 Image frame_image(const Frame& frame);
 
 // The sRGB transfer and its inverse, for values in [0, 1] (IEC 61966-2-1).
-float linear_to_srgb(float linear);
-float srgb_to_linear(float encoded);
+inline float linear_to_srgb(float x) {
+  if (!(x > 0)) return 0;
+  if (x >= 1) return 1;
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+inline float srgb_to_linear(float s) {
+  if (!(s > 0)) return 0;
+  if (s >= 1) return 1;
+  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
 
 // A colour as a user writes it, as linear RGB: "R,G,B" (three linear values
 // in [0, 1]) or "#rrggbb" (hexadecimal sRGB, as colour pickers give it,

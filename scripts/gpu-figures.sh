@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# GPU figures on a lent device (issue 23), in one prepared command.
+#
+# Here, on the build machine (a few minutes, once):
+#   scripts/gpu-figures.sh --prepare
+# gathers into build/gpu-figures/ the svo-render bundle
+# (scripts/bundle-render-node.sh), the octrees (the bumpy sphere with detail
+# octaves and the Stanford bunny, at GPU_FIGURES_RES, default 512), a small
+# sphere for the agreement check and an environment map. The folder is what
+# the device's `run` carries (`carry: ["build/gpu-figures"]`; it must stay
+# under the 64 MiB a call carries, with the working tree).
+#
+# On the device (or here, to check the script: GPU_FIGURES_DEVICE=llvmpipe
+# GPU_FIGURES_SIZE=128 GPU_FIGURES_REPEATS=2):
+#   scripts/gpu-figures.sh [OUT]         default OUT: $OUT, else build/gpu-figures/out
+# runs, each step under a time limit so that the whole stays within
+# 8 minutes: the device list; `selftest` (the shared math on the device
+# against the C++ build); the agreement check (the small sphere rendered on
+# the device and natively, compared pixel by pixel); then frames of
+# GPU_FIGURES_SIZE^2 (default 1024) of the far, mid and close views of both
+# octrees, GPU_FIGURES_REPEATS (default 20) each on one renderer, the median
+# GPU time; then the shading passes on the sphere's mid view (forward with
+# the environment, the lobe-aware filter, bandwidth-adaptive, a light-field
+# luminaire). Writes OUT/gpu-figures.json (one object: machine, device,
+# selftest, agreement, frames, passes) and each step's output beside it.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+DIR="${GPU_FIGURES_DIR:-$ROOT/build/gpu-figures}"
+
+if [ "${1:-}" = --prepare ]; then
+  BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
+  RES="${GPU_FIGURES_RES:-512}"
+  mkdir -p "$DIR"
+  "$ROOT/scripts/bundle-render-node.sh" "$DIR/node"
+  svo="$BUILD_DIR/svo"
+  bunny=/tmp/svo-gpu-figures-bunny00.off
+  [ -f "$bunny" ] || tar -xzOf /usr/share/doc/libcgal-dev/data.tar.gz data/meshes/bunny00.off > "$bunny"
+  echo "gpu-figures: voxelizing at $RES^3 (minutes on 2 cores)"
+  "$svo" voxelize --scene bumpy-sphere --detail-octaves 6 --resolution "$RES" -o "$DIR/sphere.svo" > /dev/null
+  "$svo" voxelize "$bunny" --resolution "$RES" -o "$DIR/bunny.svo" > /dev/null
+  "$svo" voxelize --scene bumpy-sphere --resolution 64 -o "$DIR/small.svo" > /dev/null
+  "$svo" luminaire make headlight --resolution 64 -o "$DIR/headlight.lfl" > /dev/null
+  cp /usr/share/blender/datafiles/studiolights/world/forest.exr "$DIR/env.exr"
+  cp "$ROOT/scripts/montage.py" "$DIR/"
+  bytes=$(du -sb "$DIR" | cut -f1)
+  echo "gpu-figures: $DIR: $((bytes / 1024 / 1024)) MiB ($bytes bytes); carry it with: carry [\"build/gpu-figures\"]"
+  if ((bytes > 56 * 1024 * 1024)); then
+    echo "gpu-figures: more than 56 MiB: with the working tree it may not fit the 64 MiB a call carries;" \
+      "try GPU_FIGURES_RES=256" >&2
+    exit 1
+  fi
+  exit 0
+fi
+
+OUT_DIR="${1:-${OUT:-$DIR/out}}"
+mkdir -p "$OUT_DIR"
+N="$DIR/node/svo-render"
+[ -x "$N" ] || { echo "gpu-figures: $N missing: run scripts/gpu-figures.sh --prepare first" >&2; exit 1; }
+SIZE="${GPU_FIGURES_SIZE:-1024}"
+REPEATS="${GPU_FIGURES_REPEATS:-20}"
+DEVICE="${GPU_FIGURES_DEVICE:-}"
+dev=()
+[ -n "$DEVICE" ] && dev=(--device "$DEVICE")
+log="$OUT_DIR/steps.txt"
+: > "$log"
+# step NAME SECONDS CMD...: runs CMD under a time limit, its stdout into
+# OUT/NAME.out, a line in steps.txt; never stops the script.
+step() {
+  local name=$1 limit=$2
+  shift 2
+  local start rc=0
+  start=$(date +%s%N)
+  timeout "$limit" "$@" > "$OUT_DIR/$name.out" 2> "$OUT_DIR/$name.err" || rc=$?
+  echo "$name rc=$rc $(( ($(date +%s%N) - start) / 1000000 )) ms" | tee -a "$log"
+}
+
+step devices 60 "$N" devices
+step selftest 120 "$N" selftest "${dev[@]}" --json
+# Agreement: the same frame on the device and natively.
+step agree-device 60 "$N" render "$DIR/small.svo" -o "$OUT_DIR/agree-device.png" --view mid --width 256 --height 256 \
+  --shadows "${dev[@]}" --json
+step agree-native 60 "$N" render "$DIR/small.svo" -o "$OUT_DIR/agree-native.png" --view mid --width 256 --height 256 \
+  --shadows --cpu --json
+for scene in sphere bunny; do
+  for view in far mid close; do
+    step "frame-$scene-$view" 90 "$N" render "$DIR/$scene.svo" -o "$OUT_DIR/frame-$scene-$view.png" --view "$view" \
+      --width "$SIZE" --height "$SIZE" --repeats "$REPEATS" "${dev[@]}" --json
+  done
+done
+common=(render "$DIR/sphere.svo" --view mid --width "$SIZE" --height "$SIZE" --repeats "$REPEATS" "${dev[@]}" --json)
+step pass-shadows 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-shadows.png" --shadows
+step pass-forward 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-forward.png" --env "$DIR/env.exr" --spp 16
+step pass-lobe-filter 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-lobe-filter.png" --env "$DIR/env.exr" --spp 4 \
+  --shading forward --filter lobe --upsample 2
+step pass-adaptive 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-adaptive.png" --env "$DIR/env.exr" --shading adaptive
+step pass-luminaire 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-luminaire.png" --luminaire "$DIR/headlight.lfl"
+
+# One JSON of the figures.
+python3 - "$OUT_DIR" "$DIR" "$SIZE" "$REPEATS" << 'EOF'
+import json, os, platform, sys
+out, d, size, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+sys.path.insert(0, d)
+from montage import read_png
+
+def load(name):
+    try:
+        text = open(os.path.join(out, name + ".out")).read().strip()
+        return json.loads(text.splitlines()[-1]) if text else None
+    except (OSError, ValueError, IndexError):
+        return None
+
+def error(name):
+    try:
+        return open(os.path.join(out, name + ".err")).read().strip()[-400:] or None
+    except OSError:
+        return None
+
+def frame(name):
+    j = load(name)
+    if not j:
+        return {"error": error(name)}
+    ms = j.get("ms")
+    return {"ms": ms, "fps": 1000.0 / ms if ms else None, "wall_ms": j.get("wall_ms"),
+            "us_per_pixel": j.get("us_per_pixel"), "steps_per_pixel": j.get("steps_per_pixel"),
+            "covered_pixels": j.get("covered_pixels"), "device": j.get("device"), "passes": j.get("passes")}
+
+result = {"machine": {"host": platform.node(), "cpu": platform.processor() or platform.machine()},
+          "size": size, "repeats": repeats,
+          "devices": open(os.path.join(out, "devices.out")).read() if os.path.exists(os.path.join(out, "devices.out")) else None,
+          "selftest": load("selftest") or {"error": error("selftest")},
+          "steps": open(os.path.join(out, "steps.txt")).read().splitlines()}
+try:
+    w, h, ch, a = read_png(os.path.join(out, "agree-device.png"))
+    _, _, _, b = read_png(os.path.join(out, "agree-native.png"))
+    diffs = [abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra, rb)]
+    result["agreement"] = {"pixels": w * h, "max_8bit_difference": max(diffs),
+                           "values_off_by_more_than_2": sum(1 for v in diffs if v > 2),
+                           "device": (load("agree-device") or {}).get("device")}
+except (OSError, SystemExit, ValueError) as e:
+    result["agreement"] = {"error": str(e)}
+result["frames"] = {f"{s}-{v}": frame(f"frame-{s}-{v}") for s in ("sphere", "bunny") for v in ("far", "mid", "close")}
+result["passes"] = {p: frame(f"pass-{p}") for p in ("shadows", "forward", "lobe-filter", "adaptive", "luminaire")}
+json.dump(result, open(os.path.join(out, "gpu-figures.json"), "w"), indent=1)
+print(json.dumps({k: {kk: vv.get("fps") for kk, vv in result[k].items()} for k in ("frames", "passes")}))
+print("agreement:", json.dumps(result["agreement"]))
+EOF
+echo "gpu-figures: $OUT_DIR/gpu-figures.json"
