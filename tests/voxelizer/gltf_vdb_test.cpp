@@ -441,6 +441,16 @@ TEST(VdbHostile, RefusedWithOneLine) {
   std::memcpy(&huge[at - 4], &size, 4);
   write_bytes(temp_dir() / "huge_meta.vdb", huge);
   expect_vdb_refused(temp_dir() / "huge_meta.vdb", "grid 0's metadata entry 0 runs past its end");
+  // A delayed-load entry claiming 2^31 leaf nodes: OpenVDB would allocate
+  // and zero 9 bytes for each (a timeout of the vdb fuzz target).
+  std::string leaves = bytes;
+  const size_t delayed = leaves.find("__delayedload");
+  ASSERT_NE(delayed, std::string::npos);
+  const uint32_t many = 0x80000000u;
+  std::memcpy(&leaves[delayed + 13 + 4], &many, 4);  // after the type name and the value's size
+  write_bytes(temp_dir() / "leaves.vdb", leaves);
+  expect_vdb_refused(temp_dir() / "leaves.vdb",
+                     "grid 0's delayed-load metadata claims 2147483648 leaf nodes, more than a file of");
   // A root tile, inserted after the root's tile and child counts: OpenVDB's
   // RootNode::readTopology reads its "active" byte straight into a bool.
   auto with_root_tile = [&](char active) {

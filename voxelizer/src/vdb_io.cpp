@@ -101,15 +101,25 @@ std::string screen_vdb(const std::string& path, uint64_t size) {
     }
     return "";
   };
-  // A MetaMap: count, then name, type name and a sized value each.
+  // A MetaMap: count, then name, type name and a sized value each. A
+  // delayed-load entry (io::DelayedLoadMetadata) starts with a count of leaf
+  // nodes, for which OpenVDB allocates and zeroes 9 bytes each: every leaf
+  // takes at least its 64-byte value mask in the file.
   auto metadata = [&](uint64_t end, const std::string& what) -> std::string {
     uint32_t count = 0;
     if (!u32(count)) return what + " metadata truncated";
     for (uint32_t i = 0; i < count; ++i) {
-      uint32_t bytes = 0;
-      if (!string(end) || !string(end) || !u32(bytes) || !skip(bytes, end)) {
+      uint32_t bytes = 0, leaves = 0;
+      std::string type;
+      if (!string(end) || !text(end, type) || !u32(bytes) || bytes > end - std::min(at, end)) {
         return what + " metadata entry " + std::to_string(i) + " runs past its end";
       }
+      const uint64_t value = at;
+      if (type == "__delayedload" && bytes >= 4 && read(&leaves, 4) && leaves > size / 64) {
+        return what + " delayed-load metadata claims " + std::to_string(leaves) + " leaf nodes, more than a file of " +
+               std::to_string(size) + " bytes holds";
+      }
+      at = value + bytes;
     }
     return "";
   };
