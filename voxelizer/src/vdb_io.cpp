@@ -1,5 +1,7 @@
 // OpenVDB level sets in (a surface source) and out (an octree's finest
 // level). One of the two translation units that include OpenVDB.
+#include <dlfcn.h>
+#include <openvdb/io/Compression.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/GridTransformer.h>
@@ -12,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <glm/geometric.hpp>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <tuple>
@@ -455,3 +458,67 @@ VdbExport export_vdb(const octree::Octree& tree, const std::string& path, const 
 }
 
 }  // namespace svo::voxelizer
+
+// OpenVDB 10's io::bloscFromStream and io::unzipFromStream read a chunk that
+// the file calls uncompressed (a negative size) into the caller's buffer
+// before they compare its size with the buffer's: a hostile .vdb writes past
+// the buffer (a heap-buffer-overflow the vdb fuzz target found in
+// LeafNode::readBuffers). The definitions below interpose OpenVDB's (an
+// executable's symbol wins over the shared library's, also for the calls
+// from inside it): they compare the size first, then hand the stream to
+// OpenVDB's own function. The library's symbol names are those of 10.0.
+static_assert(OPENVDB_LIBRARY_MAJOR_VERSION_NUMBER == 10 && OPENVDB_LIBRARY_MINOR_VERSION_NUMBER == 0,
+              "another OpenVDB: check whether io::bloscFromStream still reads before it checks the size, and "
+              "update the mangled names below");
+namespace {
+
+using FromStream = void (*)(std::istream&, char*, size_t);
+
+void checked_from_stream(const char* symbol, std::istream& is, char* data, size_t bytes) {
+  static std::mutex mutex;
+  static std::map<std::string, FromStream> originals;
+  FromStream original = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    FromStream& f = originals[symbol];
+    if (!f) f = reinterpret_cast<FromStream>(dlsym(RTLD_NEXT, symbol));
+    original = f;
+  }
+  if (!original) OPENVDB_THROW(openvdb::RuntimeError, "OpenVDB's " << symbol << " not found");
+  if (data != nullptr) {
+    // The chunk's size, then the stream back where it was.
+    const std::streampos start = is.tellg();
+    int64_t size = 0;
+    if (start != std::streampos(-1) && is.read(reinterpret_cast<char*>(&size), 8)) {
+      is.seekg(start);
+      const uint64_t stated = uint64_t(0) - uint64_t(size);  // -size, also for INT64_MIN
+      if (size <= 0 && stated != bytes) {
+        OPENVDB_THROW(openvdb::RuntimeError,
+                      "expected a " << bytes << "-byte uncompressed chunk, the file states " << stated << " bytes");
+      }
+    } else if (start != std::streampos(-1)) {
+      is.clear();
+      is.seekg(start);
+    }
+  }
+  original(is, data, bytes);
+}
+
+}  // namespace
+
+namespace openvdb {
+OPENVDB_USE_VERSION_NAMESPACE
+namespace OPENVDB_VERSION_NAME {
+namespace io {
+
+void bloscFromStream(std::istream& is, char* data, size_t bytes) {
+  checked_from_stream("_ZN7openvdb5v10_02io15bloscFromStreamERSiPcm", is, data, bytes);
+}
+
+void unzipFromStream(std::istream& is, char* data, size_t bytes) {
+  checked_from_stream("_ZN7openvdb5v10_02io15unzipFromStreamERSiPcm", is, data, bytes);
+}
+
+}  // namespace io
+}  // namespace OPENVDB_VERSION_NAME
+}  // namespace openvdb
