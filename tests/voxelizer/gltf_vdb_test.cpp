@@ -450,7 +450,15 @@ TEST(VdbHostile, RefusedWithOneLine) {
   std::memcpy(&leaves[delayed + 13 + 4], &many, 4);  // after the type name and the value's size
   write_bytes(temp_dir() / "leaves.vdb", leaves);
   expect_vdb_refused(temp_dir() / "leaves.vdb",
-                     "grid 0's delayed-load metadata claims 2147483648 leaf nodes, more than a file of");
+                     "grid 0's metadata entry 5 (delayed-load) claims 2147483648 leaf nodes, more than a file of");
+  // A fixed-size value whose type says 16 bytes where the file stores 12:
+  // OpenVDB would read 16 and lose its place in the stream.
+  std::string vec4 = bytes;
+  const size_t vec3 = vec4.find("vec3i");
+  ASSERT_NE(vec3, std::string::npos);
+  vec4[vec3 + 3] = '4';
+  write_bytes(temp_dir() / "vec4.vdb", vec4);
+  expect_vdb_refused(temp_dir() / "vec4.vdb", "grid 0's metadata entry 2 (vec4i) states 12 bytes, not 16");
   // A root tile, inserted after the root's tile and child counts: OpenVDB's
   // RootNode::readTopology reads its "active" byte straight into a bool.
   auto with_root_tile = [&](char active) {

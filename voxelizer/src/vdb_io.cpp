@@ -104,23 +104,70 @@ std::string screen_vdb(const std::string& path, uint64_t size) {
     }
     return "";
   };
-  // A MetaMap: count, then name, type name and a sized value each. A
-  // delayed-load entry (io::DelayedLoadMetadata) starts with a count of leaf
-  // nodes, for which OpenVDB allocates and zeroes 9 bytes each: every leaf
-  // takes at least its 64-byte value mask in the file.
+  // A delayed-load value (io::DelayedLoadMetadata::readValue): a count of
+  // leaf nodes, then a mask of one byte per leaf and their compressed sizes
+  // (8 bytes each; absent when the size field is 0xffffffff), each either
+  // raw (size field 0) or a Blosc buffer of the stated size. OpenVDB
+  // allocates the count and what the Blosc header states before it reads:
+  // the count must fit the file (a leaf takes at least its 64-byte value
+  // mask), each Blosc header must state the array's size, and the whole must
+  // fit the value's stated size (OpenVDB reads on past it otherwise).
+  auto delayed_load = [&](uint64_t value, uint32_t bytes) -> std::string {
+    const uint64_t end = value + bytes;
+    uint32_t leaves = 0;
+    if (!read(&leaves, 4)) return "truncated";
+    if (leaves > size / 64) {
+      return "claims " + std::to_string(leaves) + " leaf nodes, more than a file of " + std::to_string(size) +
+             " bytes holds";
+    }
+    for (const uint64_t element : {uint64_t(1), uint64_t(8)}) {
+      uint32_t stored = 0;
+      if (!u32(stored) || at > end) return "truncated";
+      if (element == 8 && stored == 0xffffffffu) break;
+      const uint64_t raw = leaves * element;
+      if (stored == 0) {
+        if (!skip(raw, end)) return "runs past its stated size";
+        continue;
+      }
+      // Blosc's header: version, versionlz, flags, typesize, then the
+      // uncompressed size, the block size and the compressed size (u32 each).
+      std::array<uint32_t, 4> header{};
+      if (stored < 16 || stored > end - std::min(at, end) || !read(header.data(), 16)) {
+        return "runs past its stated size";
+      }
+      if (header[1] != raw || header[3] != stored) {
+        return "states a compressed array of " + std::to_string(header[1]) + " bytes for " + std::to_string(leaves) +
+               " leaf nodes";
+      }
+      at += stored - 16;
+    }
+    return at <= end ? "" : "runs past its stated size";
+  };
+  // A MetaMap: count, then name, type name and a sized value each. OpenVDB
+  // reads a value of a fixed-size type (TypedMetadata<T>::readValue) by its
+  // type's size whatever size the file states, so the two must agree.
   auto metadata = [&](uint64_t end, const std::string& what) -> std::string {
+    static const std::pair<const char*, uint32_t> kFixed[] = {
+        {"bool", 1},   {"float", 4},  {"double", 8}, {"int32", 4},  {"int64", 8},  {"vec2i", 8},
+        {"vec2s", 8},  {"vec2d", 16}, {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+        {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
     uint32_t count = 0;
     if (!u32(count)) return what + " metadata truncated";
     for (uint32_t i = 0; i < count; ++i) {
-      uint32_t bytes = 0, leaves = 0;
+      const std::string entry = what + " metadata entry " + std::to_string(i);
+      uint32_t bytes = 0;
       std::string type;
       if (!string(end) || !text(end, type) || !u32(bytes) || bytes > end - std::min(at, end)) {
-        return what + " metadata entry " + std::to_string(i) + " runs past its end";
+        return entry + " runs past its end";
+      }
+      for (const auto& [name, fixed] : kFixed) {
+        if (type == name && bytes != fixed) {
+          return entry + " (" + type + ") states " + std::to_string(bytes) + " bytes, not " + std::to_string(fixed);
+        }
       }
       const uint64_t value = at;
-      if (type == "__delayedload" && bytes >= 4 && read(&leaves, 4) && leaves > size / 64) {
-        return what + " delayed-load metadata claims " + std::to_string(leaves) + " leaf nodes, more than a file of " +
-               std::to_string(size) + " bytes holds";
+      if (type == "__delayedload" && bytes > 0) {
+        if (std::string why = delayed_load(value, bytes); !why.empty()) return entry + " (delayed-load) " + why;
       }
       at = value + bytes;
     }
