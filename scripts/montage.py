@@ -67,4 +67,5 @@ def main():
     write_png(out, width, height, rows)
 
 
-main()
+if __name__ == "__main__":
+    main()

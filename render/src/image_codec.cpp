@@ -172,13 +172,6 @@ class ExrStream final : public Imf::OStream {
   uint64_t position_ = 0;
 };
 
-std::string one_line(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  for (char& c : text)
-    if (c == '\n') c = ';';
-  return text;
-}
-
 }  // namespace
 
 void write_exr(files::OutputFile& file, const std::string& path, uint32_t width, uint32_t height,

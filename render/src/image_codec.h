@@ -4,11 +4,13 @@
 // svo_render and its two image readers.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "svo/octree/files.h"
+#include "svo/octree/image_header.h"
 #include "svo/render/image_io.h"
 
 namespace svo::render::codec {
@@ -48,6 +50,28 @@ inline std::string check_image_size(const std::string& path, uint64_t width, uin
            " samples, more than the limit of 2^28";
   }
   return "";
+}
+
+// A library's message as one line ("unknown error" when empty).
+inline std::string one_line(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  std::replace(text.begin(), text.end(), '\n', ';');
+  return text.empty() ? "unknown error" : text;
+}
+
+// What both image readers check before a format library sees the file: a
+// regular file (a FIFO or a link to /dev/zero would hang them), and the
+// headers OpenEXR and libpng trust (octree/image_header.h).
+// @throw ImageError "<path>: ..." one line.
+inline void screen_image_file(const std::string& path) {
+  try {
+    files::require_regular_file(path, "an image");
+  } catch (const files::FileError& e) {
+    throw ImageError(e.what());
+  }
+  for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
+    if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
+  }
 }
 
 }  // namespace svo::render::codec

@@ -13,19 +13,11 @@
 #include <filesystem>
 
 #include "image_codec.h"
-#include "svo/octree/files.h"
-#include "svo/octree/image_header.h"
 #include "svo/render/image_io.h"
 
 namespace svo::render {
 
 namespace {
-
-std::string one_line(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  std::replace(text.begin(), text.end(), '\n', ';');
-  return text;
-}
 
 Image read_exr(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
   Image image;
@@ -63,7 +55,7 @@ Image read_exr(const std::string& path, uint64_t max_pixels, const std::string& 
   } catch (const ImageError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ImageError(path + ": cannot read: " + one_line(e.what()));
+    throw ImageError(path + ": cannot read: " + codec::one_line(e.what()));
   }
   return image;
 }
@@ -101,15 +93,7 @@ Image read_png(const std::string& path, uint64_t max_pixels, const std::string& 
 }  // namespace
 
 Image read_image(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
-  try {
-    files::require_regular_file(path, "an image");
-  } catch (const files::FileError& e) {
-    throw ImageError(e.what());
-  }
-  // Checks in front of the format libraries, which trust their headers.
-  for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
-    if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
-  }
+  codec::screen_image_file(path);
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".exr") return read_exr(path, max_pixels, limit_option);

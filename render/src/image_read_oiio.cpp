@@ -2,42 +2,19 @@
 // svo_image_read_oiio, which svo_render links; see image_io.h).
 #include <OpenImageIO/imageio.h>
 
-#include <algorithm>
-
 #include "image_codec.h"
-#include "svo/octree/files.h"
-#include "svo/octree/image_header.h"
 #include "svo/render/image_io.h"
 
 namespace svo::render {
 
-namespace {
-
-// OpenImageIO's messages may span lines: one line for the user.
-std::string one_line(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  std::replace(text.begin(), text.end(), '\n', ';');
-  return text.empty() ? "unknown OpenImageIO error" : text;
-}
-
-}  // namespace
-
 Image read_image(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
-  try {
-    files::require_regular_file(path, "an image");
-  } catch (const files::FileError& e) {
-    throw ImageError(e.what());
-  }
-  // Checks in front of the format libraries, which trust their headers.
-  for (const std::string& why : {octree::check_exr_header(path, kMaxImageSamples), octree::check_png_chunks(path)}) {
-    if (!why.empty()) throw ImageError(path + ": cannot read: " + why);
-  }
+  codec::screen_image_file(path);
   // The reader of the file's extension only: OpenImageIO's open() would
   // otherwise try every format it knows on a file its extension's rejects.
   auto in = OIIO::ImageInput::create(path, false);
-  if (!in) throw ImageError(path + ": cannot read: " + one_line(OIIO::geterror()));
+  if (!in) throw ImageError(path + ": cannot read: " + codec::one_line(OIIO::geterror()));
   OIIO::ImageSpec spec;
-  if (!in->open(path, spec)) throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
+  if (!in->open(path, spec)) throw ImageError(path + ": cannot read: " + codec::one_line(in->geterror()));
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
     throw ImageError(path + ": not a 2D image");
   }
@@ -52,7 +29,7 @@ Image read_image(const std::string& path, uint64_t max_pixels, const std::string
   image.channels.resize(size_t(spec.nchannels));  // one name per channel, whatever the file says
   image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    throw ImageError(path + ": cannot read: " + one_line(in->geterror()));
+    throw ImageError(path + ": cannot read: " + codec::one_line(in->geterror()));
   }
   const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   const std::string description = spec.get_string_attribute("ImageDescription");
