@@ -50,13 +50,15 @@ std::string describe(const openvdb::GridBase& g) {
 
 // The parts of a .vdb file OpenVDB 10 trusts before it reads a grid's
 // tree, checked against the file's size: the header, the file's metadata,
-// the grid descriptors (names, positions), each grid's metadata and
-// transform, and the root of each float tree. OpenVDB allocates and zeroes
-// a metadata value of the size the file states (a 9 KB file asking for
-// gigabytes timed out the vdb fuzz target), and reads a root tile's
-// "active" byte straight into a bool (undefined for any byte but 0 and 1).
-// Returns "" or the problem. Files older than format 222 (OpenVDB 3) are
-// refused.
+// the grid descriptors (names, positions), each grid's metadata (sizes,
+// fixed-size values, delayed-load tables) and transform, and the root of
+// each float tree. OpenVDB allocates and zeroes a metadata value of the
+// size the file states (a 9 KB file asking for gigabytes timed out the vdb
+// fuzz target), reads fixed-size values by their type whatever size the
+// file states, and reads a root tile's "active" byte straight into a bool
+// (undefined for any byte but 0 and 1). The tree's buffers are guarded at
+// the end of this file. Returns "" or the problem. Files older than format
+// 222 (OpenVDB 3) are refused.
 std::string screen_vdb(const std::string& path, uint64_t size) {
   std::ifstream in(path, std::ios::binary);
   uint64_t at = 0;
