@@ -84,7 +84,7 @@ Image read_png(const std::string& path, uint64_t max_pixels, const std::string& 
   image.channels = alpha ? std::vector<std::string>{"R", "G", "B", "A"} : std::vector<std::string>{"R", "G", "B"};
   image.pixels.resize(bytes.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
-    const float v = float(bytes[i]) / 255.0f;
+    const float v = float(bytes[i]) * (1.0f / 255.0f);  // as OpenImageIO converts
     image.pixels[i] = i % n == 3 ? v : srgb_to_linear(v);
   }
   return image;
