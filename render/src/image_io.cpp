@@ -147,14 +147,12 @@ void write_colour(const std::string& path, const Frame& frame, const Film& film)
         bytes[3 * i + size_t(c)] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
       }
     }
-    const std::string description = film_description(film);
+    const std::string film_text = film_description(film);
+    const std::string description = film_text.empty() ? "" : codec::kFilmPrefix + film_text;
     std::vector<uint8_t> encoded;
-    const std::string why =
-        format == ImageFormat::Png
-            ? codec::encode_png(frame.width, frame.height, bytes.data(),
-                                description.empty() ? "" : codec::kFilmPrefix + description, encoded)
-            : codec::encode_jpeg(frame.width, frame.height, bytes.data(),
-                                 description.empty() ? "" : codec::kFilmPrefix + description, 95, encoded);
+    const std::string why = format == ImageFormat::Png
+                                ? codec::encode_png(frame.width, frame.height, bytes.data(), description, encoded)
+                                : codec::encode_jpeg(frame.width, frame.height, bytes.data(), description, 95, encoded);
     if (!why.empty()) throw ImageError(path + ": cannot write: " + why);
     write_bytes(path, encoded);
   } else {

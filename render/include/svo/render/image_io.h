@@ -2,8 +2,8 @@
 // OpenEXR directly (no OpenImageIO, so that svo-render links no format
 // plugins); read_image has two implementations, chosen at link time: the
 // svo_render library reads any format OpenImageIO reads, svo_render_core
-// with svo_image_read_direct (svo-render) reads OpenEXR and PNG only. Every write goes to a
-// temporary file in the target's directory, is flushed to disk and renamed
+// with svo_image_read_direct (svo-render) reads OpenEXR and PNG only.
+// Every write goes to a temporary file in the target's directory, is flushed to disk and renamed
 // over the target: a crash or a failed write never leaves a half-written
 // file under the final name nor destroys the file that was there.
 //
