@@ -29,7 +29,15 @@ constexpr float kPresetFov = 40.0f;
 constexpr float kMidCloser = 2.0f, kDomainMidCloser = 3.0f;
 constexpr float kFrameFill = 0.9f;       // the far view's object spans at most 90% of the narrower field
 constexpr float kFillIrradiance = 0.6f;  // the default fill light: a fifth of the key's 3
-constexpr float kCloseVoxels = 8.0f, kCloseFraction = 0.02f;
+// close: the finest voxel spans 1/64 of the narrower field (8 pixels at 512),
+// magnified enough to see each voxel's shading, not so far that the image is
+// a blur of interpolated voxels. With procedural detail octaves (finer than
+// any voxel) the surface holds detail at any zoom: 8 voxels away, or 2% of
+// the domain, the deep-zoom view.
+// Never farther than half the mid view's distance (a coarse octree's 64
+// voxels can be wider than the object).
+constexpr float kCloseVoxelsAcross = 64.0f, kCloseCloser = 2.0f;
+constexpr float kDetailCloseVoxels = 8.0f, kDetailCloseFraction = 0.02f;
 const glm::vec3 kWorldUp(0, 1, 0);
 // validate_camera: eye and target coordinates within +-1e18, so that the
 // tracer's squared distances (up to 3 (2e18)^2) stay finite in float.
@@ -291,10 +299,22 @@ Camera mid_view(const octree::Octree& tree, const Framed& f, float aspect, const
   return c;
 }
 
-Camera close_view(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
+// close_distance given the mid view's distance from its target.
+float close_distance_from(const octree::Octree& tree, float aspect, float mid_distance) {
+  const float voxel = tree.voxel_size(tree.depth_count - 1);
+  if (tree.detail.octaves > 0) return std::max(kDetailCloseVoxels * voxel, kDetailCloseFraction * tree.size);
+  const float narrower_half_field = std::tan(glm::radians(0.5f * kPresetFov)) * std::min(1.0f, aspect);
+  return std::min(kCloseVoxelsAcross * voxel / (2 * narrower_half_field), mid_distance / kCloseCloser);
+}
+
+Camera mid_preset(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
   PresetOptions framing = p;
   framing.distance = 0;
-  Camera mid = mid_view(tree, f, aspect, framing);
+  return mid_view(tree, f, aspect, framing);
+}
+
+Camera close_view(const octree::Octree& tree, const Framed& f, float aspect, const PresetOptions& p) {
+  Camera mid = mid_preset(tree, f, aspect, p);
   DistanceSampler sampler(tree);
   glm::vec3 forward = glm::normalize(mid.target - mid.eye);
   glm::vec3 right = glm::normalize(glm::cross(forward, mid.up));
@@ -318,7 +338,7 @@ Camera close_view(const octree::Octree& tree, const Framed& f, float aspect, con
   if (!hit) throw std::runtime_error("view close: no ray of the mid view meets the surface");
 
   const float distance = p.distance > 0 ? p.distance * glm::length(f.hi - f.lo)
-                                        : std::max(kCloseVoxels * sampler.voxel(), kCloseFraction * tree.size);
+                                        : close_distance_from(tree, aspect, glm::length(mid.eye - mid.target));
   glm::vec3 n = hit->normal, towards_viewer = -ray;
   glm::vec3 tangent = towards_viewer - n * glm::dot(n, towards_viewer);
   if (glm::length(tangent) < 1e-4f) {  // looking along the normal: any tangent
@@ -339,6 +359,12 @@ Camera close_view(const octree::Octree& tree, const Framed& f, float aspect, con
 }
 
 }  // namespace
+
+float close_distance(const octree::Octree& tree, float aspect, const PresetOptions& options) {
+  const Framed f = framed(tree);
+  const Camera mid = mid_preset(tree, f, aspect, options);
+  return close_distance_from(tree, aspect, glm::length(mid.eye - mid.target));
+}
 
 std::optional<glm::vec3> march_to_surface(const octree::Octree& tree, glm::vec3 origin, glm::vec3 dir) {
   if (tree.depth_count == 0 || !(tree.size > 0) || !finite(origin) || !finite(dir) || !(glm::length(dir) > 0)) {

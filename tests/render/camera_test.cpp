@@ -268,7 +268,28 @@ TEST_F(Presets, CloseLooksObliquelyAtANearbySurfacePoint) {
   EXPECT_NO_THROW(validate_camera(c, "close"));
   const float voxel = tree_->voxel_size(tree_->depth_count - 1);
   float distance = glm::length(c.eye - c.target);
-  EXPECT_NEAR(distance, std::max(8 * voxel, 0.02f * tree_->size), 1e-4f);
+  // No detail octaves: the finest voxel spans 1/64 of the field of view, or
+  // more where that would be farther than half the mid view's distance
+  // (at 64^3 it is: 64 voxels are wider than the sphere).
+  Camera mid_camera = view_preset(*tree_, "mid");
+  const float mid_distance = glm::length(mid_camera.eye - mid_camera.target);
+  const float field = 2 * distance * std::tan(glm::radians(0.5f * c.fov_deg));
+  EXPECT_NEAR(distance, close_distance(*tree_), 1e-4f);
+  EXPECT_NEAR(distance, std::min(64 * voxel / (2 * std::tan(glm::radians(20.0f))), mid_distance / 2), 1e-4f);
+  EXPECT_LE(field / voxel, 64.01f);
+  // A portrait image: the narrower field is the horizontal one.
+  EXPECT_NEAR(close_distance(*tree_, 0.25f),
+              std::min(64 * voxel / (0.5f * std::tan(glm::radians(20.0f))), glm::length([&] {
+                                                                              Camera m =
+                                                                                  view_preset(*tree_, "mid", 0.25f);
+                                                                              return m.eye - m.target;
+                                                                            }()) /
+                                                                                2),
+              1e-4f);
+  // With detail octaves the surface holds detail at any zoom: 8 voxels away.
+  octree::Octree detailed = *tree_;
+  detailed.detail.octaves = 3;
+  EXPECT_NEAR(close_distance(detailed), std::max(8 * voxel, 0.02f * tree_->size), 1e-4f);
   EXPECT_LT(std::abs(scene_->distance(c.target)), 0.5f * voxel) << "target off the surface";
   EXPECT_GT(scene_->distance(c.eye), 2 * voxel) << "eye inside or on the surface";
   // Oblique: between 10 and 65 degrees from the surface normal.

@@ -400,6 +400,14 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   const std::map<std::string, MtlMaterial> mtl = obj ? read_mtl_materials(path) : std::map<std::string, MtlMaterial>{};
   if (obj) {
     const ObjGroups groups = obj_groups(path);
+    // OpenMesh drops a face it cannot add (a corner repeated, a third face
+    // on an edge) without a word: say how many.
+    if (groups.triangle_group.size() > mesh.n_faces() && options.warning) {
+      options.warning(path + ": " + std::to_string(groups.triangle_group.size() - mesh.n_faces()) + " of " +
+                      std::to_string(groups.triangle_group.size()) +
+                      " triangles dropped by the reader (a corner repeated, or a face it could not join to the "
+                      "others)");
+    }
     if (groups.names.size() > 1 && groups.triangle_group.size() == mesh.n_faces() &&
         arrays.triangles.size() == mesh.n_faces()) {
       arrays.face_material = groups.triangle_group;

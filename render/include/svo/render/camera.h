@@ -41,9 +41,9 @@ struct PresetOptions {
 //   mid   the same target, 2 times closer;
 //   close aimed at a surface point found by marching the mid view's rays
 //         through the finest level's signed distance hbar (where it changes
-//         sign), from max(8 finest voxels, 2% of the size) away, along a
-//         direction 60 degrees from the surface normal (less when that
-//         direction runs into the surface).
+//         sign), from close_distance away, along a direction 60 degrees from
+//         the surface normal (less when that direction runs into the
+//         surface).
 // options.distance > 0 puts the eye that many object sizes from the target
 // instead. `aspect` (width / height) keeps the far view's box inside the
 // narrower field of view.
@@ -53,6 +53,14 @@ struct PresetOptions {
 //        or, for close, when no ray of the mid view meets the surface.
 Camera view_preset(const octree::Octree& tree, std::string_view name, float aspect = 1.0f,
                    const PresetOptions& options = {});
+
+// How far the close preset's eye is from its target: where the finest voxel
+// spans 1/64 of the narrower field of view (8 pixels of a 512-pixel image:
+// each voxel's shading visible, not a blur of interpolated voxels dozens of
+// pixels wide), or half the mid view's distance when that is closer (a
+// coarse octree); with procedural detail octaves, which hold detail finer
+// than any voxel, max(8 finest voxels, 2% of the size), the deep zoom.
+float close_distance(const octree::Octree& tree, float aspect = 1.0f, const PresetOptions& options = {});
 
 // What presets frame: the bounds of the finest level's bricks (where the
 // surface is), or the domain cube when there is none.
