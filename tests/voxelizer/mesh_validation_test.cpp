@@ -1,14 +1,16 @@
 // Untrusted meshes (issue 7): make_triangle_mesh's refusals and repairs on
 // parsed arrays, and the same cases through files (OpenMesh first).
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <limits>
 
+#include "svo/voxelizer/build.h"
 #include "svo/voxelizer/mesh.h"
 
 namespace {
@@ -208,11 +210,13 @@ TEST(MeshValidation, BadFilesAreOneLineErrors) {
   // Headers that OpenMesh would trust: refused before it reads them.
   expect_file_refused(write_file("type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty floot x\nend_header\n"),
                       "PLY header line 4: expected 'property TYPE NAME'");
-  expect_file_refused(write_file("count.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n"),
-                      "element vertex claims 4000000000 entries, more than the file's");
-  expect_file_refused(write_file("list.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                                             "end_header\n0 0 0\n1 0 0\n0 1 0\n300000 0 1 2\n"),
+  expect_file_refused(
+      write_file("count.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n"),
+      "element vertex claims 4000000000 entries, more than the file's");
+  expect_file_refused(write_file("list.ply",
+                                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                 "end_header\n0 0 0\n1 0 0\n0 1 0\n300000 0 1 2\n"),
                       "PLY line 13: a list count '300000' is not an integer from 0 to 1000");
   expect_file_refused(write_file("count.off", "OFF\n900000000 1 0\n0 0 0\n"), "OFF header claims 900000000 vertices");
   expect_file_refused(write_file("negative.off", "OFF\n3 -5 0\n0 0 0\n"),
@@ -228,7 +232,8 @@ TEST(MeshValidation, BadFilesAreOneLineErrors) {
                       "OBJ line 4: face corner '/1' is not V, V/T, V//N or V/T/N");
   expect_file_refused(write_file("vc.obj", "vc 1 1 1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
                       "OBJ line 1: 'vc' vertex colour lines are not supported");
-  expect_file_refused(write_file("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"), "OBJ line 4: a face needs 3 corners");
+  expect_file_refused(write_file("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"),
+                      "OBJ line 4: a face needs 3 corners");
   expect_file_refused(write_file("huge.off", "OFF\n3 1 0\n1e20 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
                       "vertex 0 has a coordinate beyond +-1e15");
   // An index past the vertices: OpenMesh refuses the face; no face is left.
@@ -254,11 +259,11 @@ TEST(MeshValidation, BadTexturesAreOneLineErrorsNamingMeshAndTexture) {
   // A PNG header claiming 65536 x 65536 pixels: refused from the header,
   // before 48 GiB of texels are allocated.
   // (A valid PNG: IHDR, an IDAT of 16 zero bytes, IEND, correct CRCs.)
-  const unsigned char header[] = {
-      0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
-      0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x08, 0x02, 0x00, 0x00, 0x00, 0xe3, 0xe6, 0xa7, 0xb4, 0x00,
-      0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0x60, 0x40, 0x05, 0x00, 0x00, 0x10, 0x00,
-      0x01, 0x39, 0xbd, 0x8f, 0x65, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+  const unsigned char header[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48,
+                                  0x44, 0x52, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x08, 0x02, 0x00, 0x00,
+                                  0x00, 0xe3, 0xe6, 0xa7, 0xb4, 0x00, 0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78,
+                                  0x9c, 0x63, 0x60, 0x40, 0x05, 0x00, 0x00, 0x10, 0x00, 0x01, 0x39, 0xbd, 0x8f, 0x65,
+                                  0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
   write_file("huge.png", std::string(reinterpret_cast<const char*>(header), sizeof header));
   obj = textured_square("huge.png");
   expect_file_refused(obj, "65536x65536x3 samples, more than the limit of 8192x8192x4 (16384 a side)");
@@ -282,3 +287,42 @@ TEST(MeshValidation, TextureValuesAreClampedAndNaNReadAsZero) {
 }
 
 }  // namespace
+
+// Lattice points whose closest surface point lies on one of the cube's
+// edges or corners take the distance's gradient as their normal (issue 20,
+// item 2): it turns around the edge continuously, where the closest face's
+// normal jumped between lattice points and interpolation drew a staircase
+// along the crease. Points over a face's interior keep its normal.
+TEST(MeshSource, NormalsTurnAroundConvexEdgesWithTheDistance) {
+  voxelizer::TriangleMesh mesh = voxelizer::make_triangle_mesh("cube.obj", cube());
+  const voxelizer::Box box = mesh.bounds;
+  auto source = voxelizer::mesh_source(std::move(mesh));
+  const voxelizer::Lattice lattice = voxelizer::make_lattice(box, 32);
+  source->prepare(lattice);
+  std::vector<voxelizer::FinePoint> points;
+  const int n = int(lattice.resolution);
+  source->evaluate(glm::ivec3(0), glm::ivec3(n), points);
+  int edge = 0, face = 0;
+  const double h = lattice.voxel;
+  for (int z = 0; z <= n; ++z)
+    for (int y = 0; y <= n; ++y)
+      for (int x = 0; x <= n; ++x) {
+        const voxelizer::FinePoint& q = points[size_t((z * (n + 1) + y) * (n + 1) + x)];
+        if (!q.near || !(q.distance > 0.1 * h)) continue;
+        const glm::dvec3 p = lattice.position({x, y, z}), c(q.closest);
+        // On an edge or a corner: at least two coordinates at the cube's faces.
+        int at_faces = 0;
+        for (int k = 0; k < 3; ++k) at_faces += std::abs(std::abs(c[k]) - 0.5) < 1e-5;
+        const glm::vec3 n_expected = at_faces >= 2 ? glm::vec3(glm::normalize(p - c)) : q.normal;
+        if (at_faces >= 2) {
+          ++edge;
+          EXPECT_NEAR(glm::length(q.normal - n_expected), 0.0f, 1e-4f) << x << "," << y << "," << z;
+        } else {
+          ++face;
+          // A face's normal: one coordinate +-1, the others 0.
+          EXPECT_NEAR(std::abs(q.normal.x) + std::abs(q.normal.y) + std::abs(q.normal.z), 1.0f, 1e-5f);
+        }
+      }
+  EXPECT_GT(edge, 100);
+  EXPECT_GT(face, 1000);
+}

@@ -132,6 +132,14 @@ class MeshSource : public SurfaceSource {
             } else {
               point.distance = float(d < 0 ? -exact : exact);
               if (!point.near) point.distance = d < 0 ? -band : band;
+              // Where the closest point lies on an edge or a corner, the
+              // distance's gradient (DESIGN section 6) instead of a face's
+              // normal: it turns continuously around a convex crease, where
+              // the closest face's normal jumps between lattice points and
+              // interpolation drew the jump as a staircase (the Chinese
+              // dragon at 512^3, issue 20 item 2).
+              const bool on_edge = std::min({bary.x, bary.y, bary.z}) <= 0;
+              if (on_edge && exact > 1e-3 * h) point.normal = glm::vec3((p - c) / (d < 0 ? -exact : exact));
             }
           } else {
             float magnitude = std::max(std::abs(d), band);
