@@ -501,6 +501,34 @@ std::string screen_obj(std::istream& in) {
   return "";
 }
 
+// ---- STL. Binary when the file is exactly 84 + 50 n bytes for the count n
+// in bytes 80-83 (OpenMesh's own test), else ASCII: its "facet" keywords
+// counted. A binary file of more triangles than the budget would make
+// OpenMesh reserve them all before reading one.
+std::string screen_stl(std::istream& in, uintmax_t file_bytes) {
+  if (file_bytes >= 84) {
+    char header[84];
+    if (in.read(header, 84)) {
+      uint32_t n = 0;
+      std::memcpy(&n, header + 80, 4);  // little-endian, as the format says (and this host)
+      if (84 + 50 * uintmax_t(n) == file_bytes) {
+        return double(n) > kMaxMeshTriangles ? "binary STL of " + std::to_string(n) + " triangles, more than " +
+                                                   kTriangles + " (the limit of the mesh readers)"
+                                             : "";
+      }
+    }
+    in.clear();
+    in.seekg(0);
+  }
+  double triangles = 0;
+  for (std::string word; in >> word;) {
+    if (word == "facet" && ++triangles > kMaxMeshTriangles) {
+      return "ASCII STL of more than " + kTriangles + " triangles (the limit of the mesh readers)";
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string lower_extension(const std::string& path) {
@@ -519,6 +547,7 @@ std::string screen_mesh_file(const std::string& path) {
   if (ext == ".ply") return screen_ply(in, bytes);
   if (ext == ".off") return screen_off(in, bytes);
   if (ext == ".obj") return screen_obj(in);
+  if (ext == ".stl") return screen_stl(in, bytes);
   return "";
 }
 

@@ -24,7 +24,8 @@ std::string lower_extension(const std::string& path);
 // body. OBJ: vertex lines whose three coordinates OpenMesh reads (not
 // "nan", "inf", 1e39), face corners V, V/T,
 // V//N or V/T/N whose V and T indices name a vertex and a texture
-// coordinate of the file, at most kMaxPolygonCorners corners a face. All:
+// coordinate of the file, at most kMaxPolygonCorners corners a face. STL:
+// the triangle count of a binary file, the facets of an ASCII one. All:
 // at most kMaxMeshTriangles triangles.
 std::string screen_mesh_file(const std::string& path);
 
