@@ -206,8 +206,9 @@ SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
     if (drawn > 0.0f) shortest = min(shortest, svo_detail_wavelength(d, uint(drawn) - 1u));
   }
   float half_length = max(r, 0.25f * shortest);
-  // A defocused cone (its blur wider than the pixel's cone): the grid's
-  // element at or before m.t, never one already marched.
+  // A defocused cone (a lens, aperture > 0; not while detail octaves set the
+  // shortest element): the grid's element at or before m.t, never one
+  // already marched.
   if (cone.aperture > 0.0f && shortest == params.material.z) {
     SvoDefocusGrid g = svo_defocus_grid(cone);
     m.cell = max(floor(svo_defocus_index(g, m.t)), m.cell + 1.0f);
