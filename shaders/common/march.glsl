@@ -33,7 +33,8 @@ struct SvoMarch {
   float radius;
   float blend;      // weight of the finer level (hi_cell) in v; 0: the coarser alone
   uvec4 mask;       // its sub-pixel coverage
-  float cell;       // a defocused cone's last element, an index of its grid (svo_defocus_grid)
+  float cell;       // a defocused cone: the grid index (svo_defocus_grid) of its last element's start
+  bool land;        // a defocused cone: m.t was set by the domain's entry or an empty node's exit
 };
 
 // Distance along the ray (o, inv_d) to where it leaves the box [lo, lo + size].
@@ -75,27 +76,30 @@ SVO_FN float svo_cone_radius(SvoCone c, float t) {
   return max(r, 1.0e-7f * params.domain.w);
 }
 
-// A defocused cone's elements lie on a grid along the axis that depends on
-// t alone, not on where the march entered the domain or left an empty
-// node. Elements that start where the march happens to be are as long as
-// the cone is wide, many voxels for a strong blur: neighbouring pixels
-// whose marches entered at slightly different places sample the surface at
-// different points of its elements, and a change of phase (an empty-space
-// skip that lands on another node) shows as a step between rows, the
-// streaks of a strongly defocused silhouette (issue 20, item 4).
+// Where a defocused cone's march lands after entering the domain or leaving
+// an empty node: on a grid along the axis that depends on t alone. Elements
+// are as long as the cone is wide, many voxels for a strong blur. Landing
+// where the entry or the node's exit happens to be (axis-aligned planes),
+// neighbouring rows of pixels sampled the surface at different points of
+// their elements, and where the landing changed (a skip that lands on
+// another node) the shade stepped between rows: the streaks of a strongly
+// defocused silhouette (issue 20, item 4). Steps by the distance to the
+// surface land where the surface says, the same in neighbouring rows, and
+// stay as they are: marching the whole cone on the grid lost the landing
+// just in front of the surface (Fig. 4's silhouettes lost 0.02 coverage).
 //
-// The grid: element n spans [T(n), T(n + 1)], twice the half length
+// The grid: point n at T(n), spaced twice the half length
 //   h(t) = min(sqrt(b^2 + (c s)^2), H),  s = |t - f|,
 // with c = aperture / f before the focus f and aperture / f + k (the
 // pixel's cone) after it, and b = max(k f, a quarter of the finest voxel):
 // below H, h is between 0.7 and 1.5 times the cone's radius (a smooth
-// maximum of b and c s). H is the coarsest level's voxel / sqrt(2): a cone
-// wider than that level resolves is sampled as often as that level's
-// trilinear filter needs (one sample per element there, two voxels apart,
-// drew the domain's cube or the grid's shells through a blur a third of the
-// object wide). The index U(t) = integral of dt / (2 h) is closed-form on
-// each side of f: asinh(c s / b) / (2 c) up to where h reaches H, linear
-// beyond; negative before f.
+// maximum of b and c s). H is the coarsest level's voxel / sqrt(2), also
+// the longest any defocused element gets: a cone wider than that level
+// resolves is sampled as often as the level's trilinear filter needs (one
+// sample per element there, two voxels apart, drew the domain's cube
+// through a blur a third of the object wide). The index U(t) = integral of
+// dt / (2 h) is closed-form on each side of f: asinh(c s / b) / (2 c) up to
+// where h reaches H, linear beyond; negative before f.
 struct SvoDefocusGrid {
   float f;
   float b;
@@ -188,6 +192,7 @@ SVO_FN SvoMarch svo_march_start(float t) {
   m.blend = 0.0f;
   m.mask = uvec4(0u);
   m.cell = -3.0e38f;
+  m.land = true;
   return m;
 }
 
@@ -207,15 +212,20 @@ SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
   }
   float half_length = max(r, 0.25f * shortest);
   // A defocused cone (a lens, aperture > 0; not while detail octaves set the
-  // shortest element): the grid's element at or before m.t, never one
-  // already marched.
+  // shortest element): elements at most H long; after a landing, the grid
+  // point at or before m.t, never before an element already marched.
   if (cone.aperture > 0.0f && shortest == params.material.z) {
     SvoDefocusGrid g = svo_defocus_grid(cone);
-    m.cell = max(floor(svo_defocus_index(g, m.t)), m.cell + 1.0f);
-    m.t = svo_defocus_start(g, m.cell);
-    half_length = 0.5f * (svo_defocus_start(g, m.cell + 1.0f) - m.t);
-    r = svo_cone_radius(cone, m.t);
+    if (m.land) {
+      m.cell = max(floor(svo_defocus_index(g, m.t)), m.cell + 1.0f);
+      m.t = svo_defocus_start(g, m.cell);
+      r = svo_cone_radius(cone, m.t);
+    } else {
+      m.cell = max(m.cell, floor(svo_defocus_index(g, m.t)));
+    }
+    half_length = min(max(r, 0.25f * shortest), g.big_h);
   }
+  m.land = false;
   vec3 p = cone.o + cone.d * (m.t + half_length);
   uint last = params.tree.y - 1u;
   // The level whose trilinear filter matches the footprint: interpolation
@@ -250,6 +260,7 @@ SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
     // Empty at this level: jump to where the ray leaves the empty box.
     float exit = svo_box_exit(cone.o, cone.inv_d, m.lo_cell.lo, m.lo_cell.size);
     m.t = max(m.t + 2.0f * half_length, exit + 1.0e-5f * m.lo_cell.size);
+    m.land = true;
     return;
   }
   SvoVoxel v;
