@@ -37,18 +37,21 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-// The Stanford bunny of libcgal-demo (scripts/setup.sh installs it),
-// extracted into `dir`: the path of data/meshes/bunny00.off.
+// A mesh of libcgal-demo (scripts/setup.sh installs it), data/meshes/NAME,
+// extracted into `dir`: its path.
 // @throw std::runtime_error when the archive is missing or tar fails.
-inline std::string extract_bunny(const TempDir& dir) {
+inline std::string extract_cgal_mesh(const TempDir& dir, const std::string& name) {
   const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
   if (!std::filesystem::exists(archive)) {
     throw std::runtime_error(archive + " missing: scripts/setup.sh installs libcgal-demo");
   }
-  const std::string command = "tar xzf " + archive + " -C " + dir.path().string() + " data/meshes/bunny00.off";
+  const std::string command = "tar xzf " + archive + " -C " + dir.path().string() + " data/meshes/" + name;
   if (std::system(command.c_str()) != 0) throw std::runtime_error(command + " failed");
-  return (dir.path() / "data/meshes/bunny00.off").string();
+  return (dir.path() / "data/meshes" / name).string();
 }
+
+// The Stanford bunny of libcgal-demo: the path of data/meshes/bunny00.off.
+inline std::string extract_bunny(const TempDir& dir) { return extract_cgal_mesh(dir, "bunny00.off"); }
 
 // While alive, files this process writes may not grow beyond `bytes`: a
 // write past it fails with EFBIG (SIGXFSZ ignored) instead of killing the
