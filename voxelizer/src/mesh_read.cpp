@@ -319,13 +319,24 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   mesh.request_halfedge_texcoords2D();
   mesh.request_face_texture_index();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
-  if (std::string why = screen::screen_mesh_file(path); !why.empty()) throw std::runtime_error(path + ": " + why);
+  double file_triangles = -1;
+  if (std::string why = screen::screen_mesh_file(path, &file_triangles); !why.empty()) {
+    throw std::runtime_error(path + ": " + why);
+  }
   // OpenMesh opens the OBJ's material files itself.
   if (lower_extension(path) == ".obj") screen::check_obj_material_files(path, options.warning);
   if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
     throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
   }
   if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
+  // OpenMesh drops a face it cannot add (a corner repeated, a third face on
+  // an edge) without a word: say how many, against the screen's count.
+  if (file_triangles > double(mesh.n_faces()) && options.warning) {
+    const auto file = uint64_t(file_triangles);
+    options.warning(path + ": " + std::to_string(file - mesh.n_faces()) + " of " + std::to_string(file) +
+                    " triangles dropped by the reader (a corner repeated, or a face it could not join to the "
+                    "others)");
+  }
   bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
   MeshArrays arrays;
   arrays.positions.reserve(mesh.n_vertices());
@@ -400,14 +411,6 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   const std::map<std::string, MtlMaterial> mtl = obj ? read_mtl_materials(path) : std::map<std::string, MtlMaterial>{};
   if (obj) {
     const ObjGroups groups = obj_groups(path);
-    // OpenMesh drops a face it cannot add (a corner repeated, a third face
-    // on an edge) without a word: say how many.
-    if (groups.triangle_group.size() > mesh.n_faces() && options.warning) {
-      options.warning(path + ": " + std::to_string(groups.triangle_group.size() - mesh.n_faces()) + " of " +
-                      std::to_string(groups.triangle_group.size()) +
-                      " triangles dropped by the reader (a corner repeated, or a face it could not join to the "
-                      "others)");
-    }
     if (groups.names.size() > 1 && groups.triangle_group.size() == mesh.n_faces() &&
         arrays.triangles.size() == mesh.n_faces()) {
       arrays.face_material = groups.triangle_group;

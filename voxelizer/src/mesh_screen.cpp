@@ -62,10 +62,9 @@ bool is_face_corners(const Element& e, const Property& p) {
 // that many numbers; a face's corners: 3 or more vertex indices below
 // `vertices`; nothing else.
 std::string screen_ply_ascii_body(std::istream& in, const std::vector<Element>& declared, int header_lines,
-                                  int64_t vertices) {
+                                  int64_t vertices, double& triangles) {
   std::string line;
   size_t number = size_t(header_lines);
-  double triangles = 0;
   auto is_number = [](const std::string& t) {
     char* end = nullptr;
     std::strtod(t.c_str(), &end);
@@ -177,11 +176,10 @@ class BinaryBody {
 // to kMaxPolygonCorners, a face's corners 3 or more vertex indices below
 // `vertices`, and the bytes there.
 std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>& declared, bool big_endian,
-                                   uintmax_t file_bytes, int64_t vertices) {
+                                   uintmax_t file_bytes, int64_t vertices, double& triangles) {
   const std::streamoff start = in.tellg();
   if (start < 0 || uintmax_t(start) > file_bytes) return "PLY file ends in its header";
   BinaryBody body(in, file_bytes - uintmax_t(start), big_endian);
-  double triangles = 0;
   for (const Element& e : declared) {
     const std::string ends = "PLY file ends inside " + e.name.substr(0, 40) + " ";
     uint64_t row = 0;
@@ -230,7 +228,7 @@ std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>&
 
 // "" when the PLY header and body are ones OpenMesh can be given, else the
 // problem.
-std::string screen_ply(std::istream& in, uintmax_t file_bytes) {
+std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles) {
   static const std::set<std::string> kTypes = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
                                                "float", "double", "int8",    "uint8",  "int16", "uint16",
                                                "int32", "uint32", "float32", "float64"};
@@ -266,8 +264,8 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes) {
       for (const Element& e : declared) {
         if (e.name == "vertex") vertices = e.count;
       }
-      return ascii ? screen_ply_ascii_body(in, declared, number, vertices)
-                   : screen_ply_binary_body(in, declared, big_endian, file_bytes, vertices);
+      return ascii ? screen_ply_ascii_body(in, declared, number, vertices, triangles)
+                   : screen_ply_binary_body(in, declared, big_endian, file_bytes, vertices, triangles);
     }
     if (w[0] == "element") {
       if (w.size() != 3 || w[2].empty() || w[2].size() > 12 ||
@@ -305,7 +303,7 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes) {
 // than the file: OpenMesh reads "-5" into an unsigned count and reserves
 // memory for it (16 GiB, found by the mesh_file fuzz target). Binary OFF is
 // refused (its counts' byte order is OpenMesh's guess).
-std::string screen_off(std::istream& in, uintmax_t file_bytes) {
+std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles) {
   std::string first;
   std::getline(in, first);
   if (!first.empty() && first.back() == '\r') first.pop_back();
@@ -341,7 +339,6 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes) {
   const int64_t vertices = int64_t(counts[0]), faces = int64_t(counts[1]);
   std::string line;
   int64_t seen_vertices = 0, seen_faces = 0;
-  double triangles = 0;
   for (size_t number = 3; seen_faces < faces && std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::vector<std::string> w;
@@ -413,7 +410,7 @@ bool obj_index(const std::string& t, size_t& at, bool optional, long& value) {
 // corners V, V/T, V//N or V/T/N with V and T non-zero integers naming a
 // vertex and a texture coordinate of the file (negative: counted back from
 // the line). "vc" lines are refused (below).
-std::string screen_obj(std::istream& in) {
+std::string screen_obj(std::istream& in, double& triangles) {
   // First pass: the vertices and texture coordinates a positive index may name.
   long vertices = 0, uvs = 0;
   std::string line;
@@ -445,7 +442,6 @@ std::string screen_obj(std::istream& in) {
   in.clear();
   in.seekg(0);
   long seen_vertices = 0, seen_uvs = 0;
-  double triangles = 0;
   for (size_t number = 1; std::getline(in, line); ++number) {
     // OpenMesh reads the keyword as the first word, whatever space precedes it.
     std::istringstream words(line);
@@ -505,13 +501,14 @@ std::string screen_obj(std::istream& in) {
 // in bytes 80-83 (OpenMesh's own test), else ASCII: its "facet" keywords
 // counted. A binary file of more triangles than the budget would make
 // OpenMesh reserve them all before reading one.
-std::string screen_stl(std::istream& in, uintmax_t file_bytes) {
+std::string screen_stl(std::istream& in, uintmax_t file_bytes, double& triangles) {
   if (file_bytes >= 84) {
     char header[84];
     if (in.read(header, 84)) {
       uint32_t n = 0;
       std::memcpy(&n, header + 80, 4);  // little-endian, as the format says (and this host)
       if (84 + 50 * uintmax_t(n) == file_bytes) {
+        triangles = double(n);
         return double(n) > kMaxMeshTriangles ? "binary STL of " + std::to_string(n) + " triangles, more than " +
                                                    kTriangles + " (the limit of the mesh readers)"
                                              : "";
@@ -520,7 +517,6 @@ std::string screen_stl(std::istream& in, uintmax_t file_bytes) {
     in.clear();
     in.seekg(0);
   }
-  double triangles = 0;
   for (std::string word; in >> word;) {
     if (word == "facet" && ++triangles > kMaxMeshTriangles) {
       return "ASCII STL of more than " + kTriangles + " triangles (the limit of the mesh readers)";
@@ -537,18 +533,29 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string screen_mesh_file(const std::string& path) {
+std::string screen_mesh_file(const std::string& path, double* triangles) {
+  if (triangles) *triangles = -1;
   const std::string ext = lower_extension(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";  // OpenMesh reports it
   std::error_code error;
   const uintmax_t bytes = std::filesystem::file_size(path, error);
   if (error) return "";
-  if (ext == ".ply") return screen_ply(in, bytes);
-  if (ext == ".off") return screen_off(in, bytes);
-  if (ext == ".obj") return screen_obj(in);
-  if (ext == ".stl") return screen_stl(in, bytes);
-  return "";
+  double counted = 0;
+  std::string why;
+  if (ext == ".ply") {
+    why = screen_ply(in, bytes, counted);
+  } else if (ext == ".off") {
+    why = screen_off(in, bytes, counted);
+  } else if (ext == ".obj") {
+    why = screen_obj(in, counted);
+  } else if (ext == ".stl") {
+    why = screen_stl(in, bytes, counted);
+  } else {
+    return "";
+  }
+  if (triangles && why.empty()) *triangles = counted;
+  return why;
 }
 
 void check_obj_material_files(const std::string& path, const std::function<void(const std::string&)>& warning) {

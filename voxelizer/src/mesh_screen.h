@@ -27,7 +27,9 @@ std::string lower_extension(const std::string& path);
 // coordinate of the file, at most kMaxPolygonCorners corners a face. STL:
 // the triangle count of a binary file, the facets of an ASCII one. All:
 // at most kMaxMeshTriangles triangles.
-std::string screen_mesh_file(const std::string& path);
+// `triangles`, when given: the triangles the file's faces make (k - 2 for
+// a face of k corners), or -1 when nothing was screened.
+std::string screen_mesh_file(const std::string& path, double* triangles = nullptr);
 
 // Checks the OBJ's mtllib files where OpenMesh and read_mtl_materials look
 // for them (relative to the OBJ): each must be a regular file of at most
