@@ -115,12 +115,14 @@ void check_header_values(const std::string& name, const LightField& f) {
   check_finite(name, "pose at", f.pose.at);
   check_finite(name, "pose aim", f.pose.aim);
   if (!std::isfinite(f.pose.size)) fail(name, "pose size is not finite (" + number(f.pose.size) + ")");
+  // The bytes first: the length's message quotes the units (a newline in
+  // them broke its one line; found by the luminaire fuzz target).
+  for (char c : f.units) {
+    if (c < 0x20 || c > 0x7e) fail(name, "units hold byte " + std::to_string(uint8_t(c)) + ", not printable ASCII");
+  }
   if (f.units.empty() || f.units.size() >= kUnitsBytes) {
     fail(name, "units '" + (f.units.size() < 64 ? f.units : f.units.substr(0, 64)) + "' must be 1 to " +
                    std::to_string(kUnitsBytes - 1) + " characters");
-  }
-  for (char c : f.units) {
-    if (c < 0x20 || c > 0x7e) fail(name, "units hold byte " + std::to_string(uint8_t(c)) + ", not printable ASCII");
   }
   if (f.source.size() > kMaxSource) {
     fail(name, "source is " + std::to_string(f.source.size()) + " bytes, more than " + std::to_string(kMaxSource));
