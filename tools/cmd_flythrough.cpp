@@ -3,12 +3,16 @@
 // frames, a CSV of per-frame cost and levels, the path used, a strip of
 // frames, and a video when ffmpeg is installed. Every argument, the path
 // file and the outputs are checked before the octree is loaded.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <glm/geometric.hpp>
 #include <iomanip>
@@ -275,15 +279,21 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     }
     if (!a->video.empty()) {
       // ffmpeg writes into our exclusively created temporary (never -y onto
-      // a name someone else could have planted), which then replaces the video.
+      // a name someone else could have planted), which then replaces the
+      // video. It opens it through a descriptor we hold, /dev/fd/N (a
+      // duplicate without close-on-exec, inherited through the shell): the
+      // same file even if its name were replaced meanwhile, where opening
+      // the temporary by name left that window open.
       files::OutputFile video(a->video);
+      const int inherited = ::dup(video.fd());
+      if (inherited < 0) throw std::runtime_error("--video " + a->video + ": dup: " + std::strerror(errno));
       const std::string command = "ffmpeg -y -loglevel error -framerate " + std::to_string(a->fps) + " -i " +
                                   quoted((stage / "frame_%04d.png").string()) + " -frames:v " +
                                   std::to_string(cameras.size()) + " -c:v libx264 -pix_fmt yuv420p -f " + video_format +
-                                  " " + quoted(video.temporary());
-      if (std::system(command.c_str()) != 0) {
-        throw std::runtime_error("--video " + a->video + ": ffmpeg failed: " + command);
-      }
+                                  " /dev/fd/" + std::to_string(inherited);
+      const int status = std::system(command.c_str());
+      ::close(inherited);
+      if (status != 0) throw std::runtime_error("--video " + a->video + ": ffmpeg failed: " + command);
       video.commit();
     }
     publish(stage, dir);

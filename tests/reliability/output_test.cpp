@@ -131,9 +131,11 @@ TEST(Output, VideoIsWrittenThroughAnExclusiveTemporary) {
   Scene scene(dir);
   const fs::path bin = dir.path() / "bin";
   fs::create_directory(bin);
+  // The stand-in records its arguments and where its output descriptor
+  // leads, then writes through it.
   write_text(bin / "ffmpeg", "#!/bin/sh\necho \"$@\" > \"" + (dir / "ffmpeg-args") +
-                                 "\"\nfor last; do :; done\n[ -f \"$last\" ] && [ ! -L \"$last\" ] || exit 3\n"
-                                 "printf video > \"$last\"\n");
+                                 "\"\nfor last; do :; done\nreadlink \"$last\" > \"" + (dir / "ffmpeg-output") +
+                                 "\"\n[ -f \"$last\" ] || exit 3\nprintf video > \"$last\"\n");
   fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
   const std::string victim = dir / "victim.txt", video = dir / "fly.mp4";
   write_text(victim, "precious\n");
@@ -149,7 +151,11 @@ TEST(Output, VideoIsWrittenThroughAnExclusiveTemporary) {
   EXPECT_EQ(bytes_of(victim).size(), 9u) << "the planted link was written through";
   std::ifstream args_file(dir / "ffmpeg-args");
   std::string args((std::istreambuf_iterator<char>(args_file)), std::istreambuf_iterator<char>());
-  EXPECT_NE(args.find("-f mp4 " + video + ".tmp-"), std::string::npos) << args;
+  // ffmpeg is given a descriptor of the exclusive temporary, not its name.
+  EXPECT_NE(args.find("-f mp4 /dev/fd/"), std::string::npos) << args;
+  std::ifstream output_file(dir / "ffmpeg-output");
+  std::string output((std::istreambuf_iterator<char>(output_file)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(output.rfind(video + ".tmp-", 0), 0u) << output;
   EXPECT_EQ(entries(dir.path(), "fly.mp4"), std::vector<std::string>{"fly.mp4"});
 }
 
