@@ -15,9 +15,11 @@
 #include <glm/geometric.hpp>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "common/shared_math.h"
 #include "gltf_read.h"
@@ -300,6 +302,58 @@ glm::vec3 TriangleMesh::colour(size_t triangle, glm::dvec3 bary) const {
          float(bary.z) * colours[size_t(t.z)];
 }
 
+namespace {
+
+// The positions and faces (fanned from their first corner) of an ASCII OFF
+// file the screen accepted (screen_off: vertex lines of 3 or more numbers,
+// face lines of a count, that many indices below the vertex count and at
+// most 4 colour numbers), colours not read; nullopt for the 4OFF and nOFF
+// forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
+// faces: it misreads face colours in a plain OFF file (libcgal-demo's
+// quint_tris.off: 1 of 20 triangles kept).
+std::optional<MeshArrays> read_off_plainly(const std::string& path) {
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  const size_t keyword = first.find("OFF");
+  if (keyword == std::string::npos || first.find_first_of("4n") < keyword) return std::nullopt;
+  // Vertex, face and edge counts, comment lines between them skipped, as
+  // the screen reads them.
+  int64_t counts[3] = {0, 0, 0};
+  for (int64_t& c : counts) {
+    std::string word;
+    while (in >> word && word[0] == '#') in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    c = std::strtoll(word.c_str(), nullptr, 10);
+  }
+  in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  MeshArrays arrays;
+  arrays.positions.reserve(size_t(counts[0]));
+  int64_t faces = 0;
+  for (std::string line; faces < counts[1] && std::getline(in, line);) {
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string word; words >> word && word[0] != '#';) w.push_back(word);
+    if (w.empty()) continue;
+    if (int64_t(arrays.positions.size()) < counts[0]) {
+      if (w.size() < 3) return std::nullopt;
+      arrays.positions.emplace_back(std::strtod(w[0].c_str(), nullptr), std::strtod(w[1].c_str(), nullptr),
+                                    std::strtod(w[2].c_str(), nullptr));
+      continue;
+    }
+    ++faces;
+    const size_t k = size_t(std::strtoll(w[0].c_str(), nullptr, 10));
+    if (k > size_t(kMaxPolygonCorners) || w.size() < k + 1) return std::nullopt;
+    for (size_t i = 2; i < k; ++i) {
+      arrays.triangles.emplace_back(int(std::strtol(w[1].c_str(), nullptr, 10)),
+                                    int(std::strtol(w[i].c_str(), nullptr, 10)),
+                                    int(std::strtol(w[i + 1].c_str(), nullptr, 10)));
+    }
+  }
+  return arrays;
+}
+
+}  // namespace
+
 TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
   if (std::filesystem::is_directory(path)) throw std::runtime_error(path + ": is a directory, not a mesh");
@@ -330,12 +384,25 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   }
   if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
   // OpenMesh drops a face it cannot add (a corner repeated, a third face on
-  // an edge) without a word: say how many, against the screen's count.
-  if (file_triangles > double(mesh.n_faces()) && options.warning) {
+  // an edge) without a word: an OFF file is then read by our own reader,
+  // others are said to have lost triangles, against the screen's count.
+  if (file_triangles > double(mesh.n_faces())) {
     const auto file = uint64_t(file_triangles);
-    options.warning(path + ": " + std::to_string(file - mesh.n_faces()) + " of " + std::to_string(file) +
-                    " triangles dropped by the reader (a corner repeated, or a face it could not join to the "
-                    "others)");
+    const std::string kept = std::to_string(mesh.n_faces()) + " of " + std::to_string(file) + " triangles";
+    if (lower_extension(path) == ".off") {
+      if (std::optional<MeshArrays> plain = read_off_plainly(path)) {
+        if (options.warning) {
+          options.warning(path + ": OpenMesh's reader kept " + kept + ": read by svo's own (positions and faces; " +
+                          "colours not read)");
+        }
+        return make_triangle_mesh(path, std::move(*plain), options);
+      }
+    }
+    if (options.warning) {
+      options.warning(path + ": " + std::to_string(file - mesh.n_faces()) + " of " + std::to_string(file) +
+                      " triangles dropped by the reader (a corner repeated, or a face it could not join to the "
+                      "others)");
+    }
   }
   bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
   MeshArrays arrays;
