@@ -311,7 +311,7 @@ namespace {
 // forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
 // faces: it misreads face colours in a plain OFF file (libcgal-demo's
 // quint_tris.off: 1 of 20 triangles kept).
-std::optional<MeshArrays> read_off_plainly(const std::string& path) {
+std::optional<MeshArrays> read_off_plainly(const std::string& path, bool* face_extras = nullptr) {
   std::ifstream in(path);
   std::string first;
   std::getline(in, first);
@@ -343,6 +343,7 @@ std::optional<MeshArrays> read_off_plainly(const std::string& path) {
     ++faces;
     const size_t k = size_t(std::strtoll(w[0].c_str(), nullptr, 10));
     if (k > size_t(kMaxPolygonCorners) || w.size() < k + 1) return std::nullopt;
+    if (face_extras && w.size() > k + 1) *face_extras = true;
     for (size_t i = 2; i < k; ++i) {
       arrays.triangles.emplace_back(int(std::strtol(w[1].c_str(), nullptr, 10)),
                                     int(std::strtol(w[i].c_str(), nullptr, 10)),
@@ -376,6 +377,22 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   double file_triangles = -1;
   if (std::string why = screen::screen_mesh_file(path, &file_triangles); !why.empty()) {
     throw std::runtime_error(path + ": " + why);
+  }
+  // A plain OFF file whose face lines carry colours: OpenMesh's reader
+  // misreads them (it took a colour of -2 for the next face's corner
+  // count and pushed 4 GiB of handles, found by the mesh_file fuzz target;
+  // it kept 1 of the 20 triangles of libcgal-demo's quint_tris.off): read
+  // by svo's own reader instead.
+  if (lower_extension(path) == ".off") {
+    bool face_extras = false;
+    std::optional<MeshArrays> plain = read_off_plainly(path, &face_extras);
+    if (plain && face_extras) {
+      if (options.warning) {
+        options.warning(path + ": faces with colours: read by svo's own OFF reader (positions and faces; colours " +
+                        "not read)");
+      }
+      return make_triangle_mesh(path, std::move(*plain), options);
+    }
   }
   // OpenMesh opens the OBJ's material files itself.
   if (lower_extension(path) == ".obj") screen::check_obj_material_files(path, options.warning);
