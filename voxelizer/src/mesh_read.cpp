@@ -311,7 +311,7 @@ namespace {
 // forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
 // faces: it misreads face colours in a plain OFF file (libcgal-demo's
 // quint_tris.off: 1 of 20 triangles kept).
-std::optional<MeshArrays> read_off_plainly(const std::string& path, bool* face_extras = nullptr) {
+std::optional<MeshArrays> read_off_plainly(const std::string& path) {
   std::ifstream in(path);
   std::string first;
   std::getline(in, first);
@@ -343,10 +343,9 @@ std::optional<MeshArrays> read_off_plainly(const std::string& path, bool* face_e
     ++faces;
     const size_t k = size_t(std::strtoll(w[0].c_str(), nullptr, 10));
     if (k > size_t(kMaxPolygonCorners) || w.size() < k + 1) return std::nullopt;
-    if (face_extras && w.size() > k + 1) *face_extras = true;
+    const int corner0 = int(std::strtol(w[1].c_str(), nullptr, 10));
     for (size_t i = 2; i < k; ++i) {
-      arrays.triangles.emplace_back(int(std::strtol(w[1].c_str(), nullptr, 10)),
-                                    int(std::strtol(w[i].c_str(), nullptr, 10)),
+      arrays.triangles.emplace_back(corner0, int(std::strtol(w[i].c_str(), nullptr, 10)),
                                     int(std::strtol(w[i + 1].c_str(), nullptr, 10)));
     }
   }
@@ -375,7 +374,8 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   mesh.request_face_texture_index();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
   double file_triangles = -1;
-  if (std::string why = screen::screen_mesh_file(path, &file_triangles); !why.empty()) {
+  bool face_colours = false;
+  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &face_colours); !why.empty()) {
     throw std::runtime_error(path + ": " + why);
   }
   // A plain OFF file whose face lines carry colours: OpenMesh's reader
@@ -383,10 +383,9 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   // count and pushed 4 GiB of handles, found by the mesh_file fuzz target;
   // it kept 1 of the 20 triangles of libcgal-demo's quint_tris.off): read
   // by svo's own reader instead.
-  if (lower_extension(path) == ".off") {
-    bool face_extras = false;
-    std::optional<MeshArrays> plain = read_off_plainly(path, &face_extras);
-    if (plain && face_extras) {
+  if (face_colours) {
+    std::optional<MeshArrays> plain = read_off_plainly(path);
+    if (plain) {
       if (options.warning) {
         options.warning(path + ": faces with colours: read by svo's own OFF reader (positions and faces; colours " +
                         "not read)");

@@ -303,7 +303,7 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles
 // than the file: OpenMesh reads "-5" into an unsigned count and reserves
 // memory for it (16 GiB, found by the mesh_file fuzz target). Binary OFF is
 // refused (its counts' byte order is OpenMesh's guess).
-std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles) {
+std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles, bool& face_colours) {
   std::string first;
   std::getline(in, first);
   if (!first.empty() && first.back() == '\r') first.pop_back();
@@ -374,6 +374,7 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles
     for (size_t i = k + 1; i < w.size(); ++i) {
       if (!is_number(w[i])) return where + "'" + w[i].substr(0, 40) + "' is not a number";
     }
+    if (w.size() > 1 + k) face_colours = true;
     if ((triangles += double(k) - 2) > kMaxMeshTriangles) {
       return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
     }
@@ -533,8 +534,9 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string screen_mesh_file(const std::string& path, double* triangles) {
+std::string screen_mesh_file(const std::string& path, double* triangles, bool* face_colours) {
   if (triangles) *triangles = -1;
+  if (face_colours) *face_colours = false;
   const std::string ext = lower_extension(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";  // OpenMesh reports it
@@ -542,11 +544,12 @@ std::string screen_mesh_file(const std::string& path, double* triangles) {
   const uintmax_t bytes = std::filesystem::file_size(path, error);
   if (error) return "";
   double counted = 0;
+  bool colours = false;
   std::string why;
   if (ext == ".ply") {
     why = screen_ply(in, bytes, counted);
   } else if (ext == ".off") {
-    why = screen_off(in, bytes, counted);
+    why = screen_off(in, bytes, counted, colours);
   } else if (ext == ".obj") {
     why = screen_obj(in, counted);
   } else if (ext == ".stl") {
@@ -555,6 +558,7 @@ std::string screen_mesh_file(const std::string& path, double* triangles) {
     return "";
   }
   if (triangles && why.empty()) *triangles = counted;
+  if (face_colours && why.empty()) *face_colours = colours;
   return why;
 }
 
