@@ -9,6 +9,78 @@
 #include "frame.glsl"
 #include "masks.glsl"
 
+// Where a defocused cone's march lands after entering the domain or leaving
+// an empty node: on a grid along the axis that depends on t alone. Elements
+// are as long as the cone is wide, many voxels for a strong blur. Landing
+// where the entry or the node's exit happens to be (axis-aligned planes),
+// neighbouring rows of pixels sampled the surface at different points of
+// their elements, and where the landing changed (a skip that lands on
+// another node) the shade stepped between rows: the streaks of a strongly
+// defocused silhouette (issue 20, item 4). Steps by the distance to the
+// surface land where the surface says, the same in neighbouring rows, and
+// stay as they are: marching the whole cone on the grid lost the landing
+// just in front of the surface (Fig. 4's silhouettes lost 0.02 coverage).
+//
+// The grid: point n at T(n), spaced twice the half length
+//   h(t) = min(sqrt(b^2 + (c s)^2), H),  s = |t - f|,
+// with c = aperture / f before the focus f and aperture / f + k (the
+// pixel's cone) after it, and b = max(k f, a quarter of the finest voxel):
+// below H, h is between 0.7 and 1.5 times the cone's radius (a smooth
+// maximum of b and c s). H is the coarsest level's voxel / sqrt(2), also
+// the longest any defocused element gets: a cone wider than that level
+// resolves is sampled as often as the level's trilinear filter needs (one
+// sample per element there, two voxels apart, drew the domain's cube
+// through a blur a third of the object wide). The index U(t) = integral of
+// dt / (2 h) is closed-form on each side of f: asinh(c s / b) / (2 c) up to
+// where h reaches H, linear beyond; negative before f.
+struct SvoDefocusGrid {
+  float f;
+  float b;
+  float big_h;
+  vec2 c;      // before the focus, after it
+  vec2 s_cap;  // the distance from f where h reaches H, each side
+  vec2 u_cap;  // |U| there
+};
+
+// asinh(x) and sinh(x) for x >= 0, without cancellation near 0.
+SVO_FN float svo_asinh(float x) {
+  return x < 1.0e-3f ? x * (1.0f - x * x * (1.0f / 6.0f)) : log(x + sqrt(x * x + 1.0f));
+}
+SVO_FN float svo_sinh(float x) {
+  return x < 1.0e-3f ? x * (1.0f + x * x * (1.0f / 6.0f)) : 0.5f * (exp(x) - exp(-x));
+}
+
+// The grid of a cone of radius max(r0 + k t, aperture |t - focus| / focus),
+// aperture > 0: once a cone (svo_make_cone), not at every element.
+SVO_FN SvoDefocusGrid svo_defocus_grid(float r0, float k, float aperture, float focus) {
+  SvoDefocusGrid g;
+  g.f = focus;
+  g.b = max(r0 + k * focus, 0.25f * params.material.z);
+  g.big_h = params.domain.w / (float(params.tree.x) * SVO_SQRT2);
+  g.c = vec2(aperture / focus, aperture / focus + k);
+  for (int i = 0; i < 2; ++i) {
+    g.s_cap[i] = sqrt(max(g.big_h * g.big_h - g.b * g.b, 0.0f)) / g.c[i];
+    g.u_cap[i] = svo_asinh(g.c[i] * g.s_cap[i] / g.b) / (2.0f * g.c[i]);
+  }
+  return g;
+}
+
+SVO_FN float svo_defocus_index(SvoDefocusGrid g, float t) {
+  int i = t >= g.f ? 1 : 0;
+  float s = abs(t - g.f);
+  float u = s <= g.s_cap[i] ? svo_asinh(g.c[i] * s / g.b) / (2.0f * g.c[i])
+                            : g.u_cap[i] + (s - g.s_cap[i]) / (2.0f * g.big_h);
+  return i == 1 ? u : -u;
+}
+
+SVO_FN float svo_defocus_start(SvoDefocusGrid g, float u) {
+  int i = u >= 0.0f ? 1 : 0;
+  float a = abs(u);
+  float s = a <= g.u_cap[i] ? g.b * svo_sinh(2.0f * g.c[i] * a) / g.c[i]
+                            : g.s_cap[i] + (a - g.u_cap[i]) * 2.0f * g.big_h;
+  return i == 1 ? g.f + s : g.f - s;
+}
+
 // A cone: radius(t) = max(r0 + k t, aperture |t - focus| / focus).
 struct SvoCone {
   vec3 o;
@@ -19,6 +91,7 @@ struct SvoCone {
   float aperture;
   float focus;
   SvoFrame frame;  // footprint axes (the mask table's x and y)
+  SvoDefocusGrid grid;  // aperture > 0: where the march lands (svo_defocus_grid)
 };
 
 // The state of a march along a cone, advanced element by element.
@@ -67,6 +140,12 @@ SVO_FN SvoCone svo_make_cone(vec3 o, vec3 d, float r0, float k, float aperture, 
   c.aperture = aperture;
   c.focus = focus;
   c.frame = svo_tangent_frame(d);
+  if (aperture > 0.0f) {
+    c.grid = svo_defocus_grid(r0, k, aperture, focus);
+  } else {  // unused; set so that copies of the cone copy defined values
+    c.grid.f = c.grid.b = c.grid.big_h = 0.0f;
+    c.grid.c = c.grid.s_cap = c.grid.u_cap = vec2(0.0f);
+  }
   return c;
 }
 
@@ -74,76 +153,6 @@ SVO_FN float svo_cone_radius(SvoCone c, float t) {
   float r = c.r0 + c.k * t;
   if (c.aperture > 0.0f) r = max(r, c.aperture * abs(t - c.focus) / c.focus);
   return max(r, 1.0e-7f * params.domain.w);
-}
-
-// Where a defocused cone's march lands after entering the domain or leaving
-// an empty node: on a grid along the axis that depends on t alone. Elements
-// are as long as the cone is wide, many voxels for a strong blur. Landing
-// where the entry or the node's exit happens to be (axis-aligned planes),
-// neighbouring rows of pixels sampled the surface at different points of
-// their elements, and where the landing changed (a skip that lands on
-// another node) the shade stepped between rows: the streaks of a strongly
-// defocused silhouette (issue 20, item 4). Steps by the distance to the
-// surface land where the surface says, the same in neighbouring rows, and
-// stay as they are: marching the whole cone on the grid lost the landing
-// just in front of the surface (Fig. 4's silhouettes lost 0.02 coverage).
-//
-// The grid: point n at T(n), spaced twice the half length
-//   h(t) = min(sqrt(b^2 + (c s)^2), H),  s = |t - f|,
-// with c = aperture / f before the focus f and aperture / f + k (the
-// pixel's cone) after it, and b = max(k f, a quarter of the finest voxel):
-// below H, h is between 0.7 and 1.5 times the cone's radius (a smooth
-// maximum of b and c s). H is the coarsest level's voxel / sqrt(2), also
-// the longest any defocused element gets: a cone wider than that level
-// resolves is sampled as often as the level's trilinear filter needs (one
-// sample per element there, two voxels apart, drew the domain's cube
-// through a blur a third of the object wide). The index U(t) = integral of
-// dt / (2 h) is closed-form on each side of f: asinh(c s / b) / (2 c) up to
-// where h reaches H, linear beyond; negative before f.
-struct SvoDefocusGrid {
-  float f;
-  float b;
-  float big_h;
-  vec2 c;      // before the focus, after it
-  vec2 s_cap;  // the distance from f where h reaches H, each side
-  vec2 u_cap;  // |U| there
-};
-
-// asinh(x) and sinh(x) for x >= 0, without cancellation near 0.
-SVO_FN float svo_asinh(float x) {
-  return x < 1.0e-3f ? x * (1.0f - x * x * (1.0f / 6.0f)) : log(x + sqrt(x * x + 1.0f));
-}
-SVO_FN float svo_sinh(float x) {
-  return x < 1.0e-3f ? x * (1.0f + x * x * (1.0f / 6.0f)) : 0.5f * (exp(x) - exp(-x));
-}
-
-SVO_FN SvoDefocusGrid svo_defocus_grid(SVO_IN(SvoCone) cone) {
-  SvoDefocusGrid g;
-  g.f = cone.focus;
-  g.b = max(cone.r0 + cone.k * cone.focus, 0.25f * params.material.z);
-  g.big_h = params.domain.w / (float(params.tree.x) * SVO_SQRT2);
-  g.c = vec2(cone.aperture / cone.focus, cone.aperture / cone.focus + cone.k);
-  for (int i = 0; i < 2; ++i) {
-    g.s_cap[i] = sqrt(max(g.big_h * g.big_h - g.b * g.b, 0.0f)) / g.c[i];
-    g.u_cap[i] = svo_asinh(g.c[i] * g.s_cap[i] / g.b) / (2.0f * g.c[i]);
-  }
-  return g;
-}
-
-SVO_FN float svo_defocus_index(SvoDefocusGrid g, float t) {
-  int i = t >= g.f ? 1 : 0;
-  float s = abs(t - g.f);
-  float u = s <= g.s_cap[i] ? svo_asinh(g.c[i] * s / g.b) / (2.0f * g.c[i])
-                            : g.u_cap[i] + (s - g.s_cap[i]) / (2.0f * g.big_h);
-  return i == 1 ? u : -u;
-}
-
-SVO_FN float svo_defocus_start(SvoDefocusGrid g, float u) {
-  int i = u >= 0.0f ? 1 : 0;
-  float a = abs(u);
-  float s = a <= g.u_cap[i] ? g.b * svo_sinh(2.0f * g.c[i] * a) / g.c[i]
-                            : g.s_cap[i] + (a - g.u_cap[i]) * 2.0f * g.big_h;
-  return i == 1 ? g.f + s : g.f - s;
 }
 
 // The file's detail octaves (params.detail*).
@@ -215,15 +224,14 @@ SVO_FN void svo_step(SVO_INOUT(SvoMarch) m, SVO_IN(SvoCone) cone, uint mode) {
   // shortest element): elements at most H long; after a landing, the grid
   // point at or before m.t, never before an element already marched.
   if (cone.aperture > 0.0f && shortest == params.material.z) {
-    SvoDefocusGrid g = svo_defocus_grid(cone);
     if (m.land) {
-      m.cell = max(floor(svo_defocus_index(g, m.t)), m.cell + 1.0f);
-      m.t = svo_defocus_start(g, m.cell);
+      m.cell = max(floor(svo_defocus_index(cone.grid, m.t)), m.cell + 1.0f);
+      m.t = svo_defocus_start(cone.grid, m.cell);
       r = svo_cone_radius(cone, m.t);
     } else {
-      m.cell = max(m.cell, floor(svo_defocus_index(g, m.t)));
+      m.cell = max(m.cell, floor(svo_defocus_index(cone.grid, m.t)));
     }
-    half_length = min(max(r, 0.25f * shortest), g.big_h);
+    half_length = min(max(r, 0.25f * shortest), cone.grid.big_h);
   }
   m.land = false;
   vec3 p = cone.o + cone.d * (m.t + half_length);
