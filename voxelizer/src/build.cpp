@@ -167,12 +167,15 @@ struct Builder {
       SurfaceSample sample;
     };
     tbb::enumerable_thread_specific<std::vector<Found>> found_local;
+    tbb::enumerable_thread_specific<std::vector<Key>> shell_points_local;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
       auto& found = found_local.local();
       auto& points = scratch.local();
       for (size_t c = r.begin(); c != r.end(); ++c) {
         glm::ivec3 lo = candidates[c] * int(B), hi = lo + glm::ivec3(int(B) - 1);
-        source.evaluate(lo, hi, points, 0.75f * h);  // samples lie within h/2 (of a sheet); a margin for rounding
+        // Samples lie within h/2 of the surface; a sheet's shell reaches
+        // h/2 beyond its outer faces; a margin for rounding.
+        source.evaluate(lo, hi, points, (kShellFaceReach + 0.25f) * h);
         size_t i = 0;
         for (int z = lo.z; z <= hi.z; ++z)
           for (int y = lo.y; y <= hi.y; ++y)
@@ -181,8 +184,11 @@ struct Builder {
               // A sheet's samples are the lattice points within h/2 of the
               // sheet itself, on either side, with its own orientation.
               if (p.near && (p.sheet >= 0 ? p.sheet : std::abs(p.distance)) <= 0.5f * h) {
-                found.push_back({pack({x, y, z}),
-                                 {p.closest, p.turned ? -p.normal : p.normal, p.colour, p.material, p.sheet >= 0}});
+                found.push_back(
+                    {pack({x, y, z}),
+                     {p.closest, p.sheet >= 0 ? p.sheet_normal : p.normal, p.colour, p.material, p.sheet >= 0}});
+              } else if (p.near && p.sheet >= 0 && p.sheet <= kShellFaceReach * h) {
+                shell_points_local.local().push_back(pack({x, y, z}));
               }
             }
         const size_t n = ++evaluated;
@@ -207,6 +213,14 @@ struct Builder {
       samples[i] = found[i].sample;
       add_bricks_holding(unpack(found[i].key), int(B), int(N / B), levels[D].bricks);
     }
+    // The bricks a sheet's shell faces cross, though they hold no sample:
+    // without them the brick below rebuilds its face by extrapolation,
+    // which carries the far side's sign and normal out through the shell
+    // (dark patches on the lion's head at 256^3, far view).
+    for (const auto& points : shell_points_local) {
+      for (Key k : points) add_bricks_holding(unpack(k), int(B), int(N / B), levels[D].bricks);
+    }
+    shell_points_local.clear();
     rep.samples = samples.size();
     found = {};
     rep.seconds_samples = clock.seconds() - rep.seconds_source;
@@ -247,6 +261,17 @@ struct Builder {
         Key key = keyed[starts[g]].first;
         level.filled.emplace(key, uint32_t(g));
         add_bricks_holding(unpack(key), int(B), int(level.cells / B), level.bricks);
+        if (!level.sheet[g]) continue;
+        // A sheet's shell reaches a voxel beyond it: the bricks of the
+        // lattice points around it too (their values come from the
+        // sheet's plane, fill_bricks), as at the finest level.
+        for (int n = 0; n < 27; ++n) {
+          const glm::ivec3 q = unpack(key) + glm::ivec3(n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1);
+          if (glm::all(glm::greaterThanEqual(q, glm::ivec3(0))) &&
+              glm::all(glm::lessThanEqual(q, glm::ivec3(int(level.cells))))) {
+            add_bricks_holding(q, int(B), int(level.cells / B), level.bricks);
+          }
+        }
       }
       for (auto& v : level.stats) fold_detail(v);
       rep.filled_voxels += level.stats.size();

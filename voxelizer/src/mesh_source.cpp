@@ -4,10 +4,14 @@
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <map>
 #include <mutex>
 #include <tuple>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "svo/voxelizer/mesh.h"
 #include "vdb_bricks.h"
@@ -51,7 +55,9 @@ glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
 
 class MeshSource : public SurfaceSource {
  public:
-  explicit MeshSource(TriangleMesh mesh) : mesh_(std::move(mesh)) {}
+  explicit MeshSource(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+    if (open_) find_open_sides();
+  }
 
   Box bounds() const override { return mesh_.bounds; }
   float sigma_rho2() const override { return mesh_.sigma_rho2; }
@@ -85,8 +91,11 @@ class MeshSource : public SurfaceSource {
   }
 
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
-    // Within half a voxel of the surface (the grid is in voxel units).
-    return bricks_near_surface(*distance_, 0.5f, int(brick_size), int(lattice_.resolution / brick_size));
+    // Within half a voxel of the surface (the grid is in voxel units); of
+    // an open surface, of its shell's outer faces, half the shell's width
+    // beyond the triangles (build.cpp keeps the bricks those faces cross).
+    const float within = open_ ? kShellFaceReach : 0.5f;
+    return bricks_near_surface(*distance_, within, int(brick_size), int(lattice_.resolution / brick_size));
   }
 
   using SurfaceSource::evaluate;
@@ -123,12 +132,31 @@ class MeshSource : public SurfaceSource {
             if (open_) {
               // An open surface: a thin shell around each triangle, so that
               // both of its sides are drawn (as the reference's double-sided
-              // triangles are) and no point needs an inside; its normal faces
-              // the point's side.
+              // triangles are) and no point needs an inside.
+              // - Its normal is the face's, turned to the point's side; where
+              //   the closest point lies on an edge or a corner, the
+              //   distance's gradient, which turns around the edge. The
+              //   face's normal there flipped between neighbouring lattice
+              //   points and notched the rim of the lion's open back.
+              // - At an open edge the shell ends in a flat cap through the
+              //   edge, across the sheet, instead of the half cylinder that
+              //   |d| - half draws a half width beyond it: rims and the
+              //   sheet's silhouettes stay where the reference draws them.
               point.sheet = float(exact);
-              point.distance = point.near ? float(exact - 0.5 * kShellVoxels * h) : band;
-              point.turned = glm::dot(p - c, glm::dvec3(point.normal)) < 0;
-              if (point.turned) point.normal = -point.normal;
+              point.sheet_normal = point.normal;
+              const double half = 0.5 * kShellVoxels * h;
+              point.distance = point.near ? float(exact - half) : band;
+              const glm::dvec3 n(point.normal), off = p - c;
+              const double across = glm::dot(off, n);
+              point.normal = glm::vec3(across < 0 ? -n : n);
+              if (exact > 1e-3 * h && std::min({bary.x, bary.y, bary.z}) <= 0) {
+                point.normal = glm::vec3(off / exact);
+                const glm::dvec3 beyond = off - across * n;  // in the sheet's plane, away from the edge
+                const double out = glm::length(beyond), above = std::abs(across) - half;
+                if (point.near && out > 1e-3 * h && on_open_side(size_t(tri), bary)) {
+                  point.distance = float(above <= 0 ? out : std::hypot(out, above));
+                }
+              }
             } else {
               point.distance = float(d < 0 ? -exact : exact);
               if (!point.near) point.distance = d < 0 ? -band : band;
@@ -151,9 +179,63 @@ class MeshSource : public SurfaceSource {
   }
 
  private:
+  // Per triangle, bit i: the edge opposite corner i is open (no other
+  // triangle has an edge between the same two points); bit 3 + i: corner i
+  // lies on an open edge. By position, not by vertex index: faces stored
+  // with vertices of their own (a box of six separate grids) still meet at
+  // their shared edges, which are creases, not rims.
+  void find_open_sides() {
+    std::map<std::array<double, 3>, uint32_t> ids;
+    std::vector<uint32_t> id(mesh_.positions.size());
+    for (size_t v = 0; v < id.size(); ++v) {
+      const glm::dvec3& p = mesh_.positions[v];
+      id[v] = ids.emplace(std::array<double, 3>{p.x, p.y, p.z}, uint32_t(ids.size())).first->second;
+    }
+    auto key = [&](int a, int b) {
+      const uint32_t i = id[size_t(a)], j = id[size_t(b)];
+      return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
+    };
+    std::unordered_map<uint64_t, uint32_t> uses;
+    for (const glm::ivec3& t : mesh_.triangles)
+      for (int i = 0; i < 3; ++i) ++uses[key(t[(i + 1) % 3], t[(i + 2) % 3])];
+    open_sides_.assign(mesh_.triangles.size(), 0);
+    std::unordered_set<uint32_t> open_corners;
+    for (size_t f = 0; f < mesh_.triangles.size(); ++f) {
+      const glm::ivec3& t = mesh_.triangles[f];
+      for (int i = 0; i < 3; ++i) {
+        const int a = t[(i + 1) % 3], b = t[(i + 2) % 3];
+        if (uses[key(a, b)] != 1) continue;
+        open_sides_[f] |= uint8_t(1u << i);
+        open_corners.insert(id[size_t(a)]);
+        open_corners.insert(id[size_t(b)]);
+      }
+    }
+    for (size_t f = 0; f < mesh_.triangles.size(); ++f)
+      for (int i = 0; i < 3; ++i)
+        if (open_corners.count(id[size_t(mesh_.triangles[f][i])])) open_sides_[f] |= uint8_t(8u << i);
+  }
+
+  // Whether the closest point of barycentric coordinates `bary` on triangle
+  // `tri` lies on an open edge or a corner of one.
+  bool on_open_side(size_t tri, glm::dvec3 bary) const {
+    const uint8_t sides = open_sides_[tri];
+    if (!sides) return false;
+    int zeros = 0, last = 0, other = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (bary[i] <= 0)
+        ++zeros, last = i;
+      else
+        other = i;
+    }
+    if (zeros == 1) return sides & (1u << last);   // on the edge opposite corner `last`
+    if (zeros == 2) return sides & (8u << other);  // at corner `other`
+    return false;
+  }
+
   TriangleMesh mesh_;
   // Drawn as shells; OpenVDB's sign (a flood-fill guess there) is unused.
   bool open_ = mesh_.two_sided;
+  std::vector<uint8_t> open_sides_;  // find_open_sides()
   Lattice lattice_;
   openvdb::math::Transform::Ptr transform_;
   openvdb::FloatGrid::Ptr distance_;

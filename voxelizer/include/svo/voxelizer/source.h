@@ -40,6 +40,10 @@ constexpr float kBandVoxels = 3.0f;
 // voxel more widens silhouettes (docs/RESULTS.md, "Open meshes"). Above 1,
 // the interpolation always dips below zero.
 constexpr float kShellVoxels = 2.0f;
+// How far from a sheet, in voxels, a lattice point still matters: within
+// half a voxel of the shell's outer faces. Every brick holding such a point
+// is stored (and the mesh's candidate bricks reach that far).
+constexpr float kShellFaceReach = 0.5f * kShellVoxels + 0.5f;
 
 struct FinePoint {
   float distance = 0;          // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
@@ -50,11 +54,13 @@ struct FinePoint {
   uint32_t material = 0;       // index into materials() of the surface at `closest`
   // >= 0: the point lies beside an open surface, drawn as a thin shell
   // around each triangle so that both of its sides are outside: `distance`
-  // and `normal` are the shell's (the normal faces the point's side;
-  // `turned`: against the triangle's own), `sheet` the unsigned distance to
-  // the triangle itself, which coarser levels average with its own normal.
+  // and `normal` are the shell's (the normal is the unsigned distance's
+  // gradient: it faces the point's side, and turns around the sheet's
+  // boundary edges), `sheet` the unsigned distance to the triangle itself
+  // and `sheet_normal` the triangle's own normal, which coarser levels
+  // average.
   float sheet = -1;
-  bool turned = false;
+  glm::vec3 sheet_normal{0, 0, 1};
 };
 
 class SurfaceSource {
