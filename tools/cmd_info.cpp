@@ -97,18 +97,56 @@ void print_json(const octree::SvoView& svo, const std::vector<Level>& levels) {
       {"channels", channels},
       {"per_level", per_level},
       {"materials", shape.materials},
+      {"source", nullptr},
       {"detail", nullptr}};
+  if (!shape.source.empty()) {
+    // The voxelizer's JSON; a text that is not JSON (the file may come from
+    // anywhere) is shown as it is.
+    nlohmann::json source = nlohmann::json::parse(shape.source, nullptr, false);
+    out["source"] = source.is_discarded() ? nlohmann::json(shape.source) : source;
+  }
   if (const octree::Detail& d = shape.detail; d.octaves > 0) {
-    out["detail"] = {{"octaves", d.octaves},
-                     {"seed", d.seed},
-                     {"amplitude", json_float(d.amplitude)},
-                     {"wavelength", json_float(d.wavelength)},
-                     {"gain", json_float(d.gain)},
-                     {"colour_slope", {json_float(d.colour_slope.x), json_float(d.colour_slope.y),
-                                       json_float(d.colour_slope.z)}}};
+    out["detail"] = {
+        {"octaves", d.octaves},
+        {"seed", d.seed},
+        {"amplitude", json_float(d.amplitude)},
+        {"wavelength", json_float(d.wavelength)},
+        {"gain", json_float(d.gain)},
+        {"colour_slope", {json_float(d.colour_slope.x), json_float(d.colour_slope.y), json_float(d.colour_slope.z)}}};
   }
   if (voxels > 0) out["bytes_per_voxel"] = double(svo.file_bytes()) / double(voxels);
-  std::cout << out.dump() << "\n";
+  // Texts from the file (materials, source) may hold any bytes: invalid
+  // UTF-8 is replaced, not thrown on.
+  std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+}
+
+// Control characters of a text from the file as '?', so that it cannot
+// drive the terminal.
+std::string printable(std::string s) {
+  for (char& c : s)
+    if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+  return s;
+}
+
+// Where the octree came from (the voxelizer's JSON: input and settings, and
+// what it decided about the surface); a text that is not that JSON as it is.
+template <class Row>
+void print_source(const std::string& text, Row& row) {
+  if (text.empty()) {
+    row("source") << "not recorded (written before svo recorded it, or not by svo voxelize)\n";
+    return;
+  }
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (!j.is_object() || !j.contains("input") || !j["input"].is_string()) {
+    row("source") << printable(text) << "\n";
+    return;
+  }
+  row("source") << printable(j["input"].get<std::string>());
+  if (j.contains("resolution") && j["resolution"].is_number()) std::cout << " at " << j["resolution"].dump() << "^3";
+  std::cout << "\n";
+  if (j.contains("surface") && j["surface"].is_string()) {
+    row("surface") << printable(j["surface"].get<std::string>()) << "\n";
+  }
 }
 
 void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
@@ -131,8 +169,8 @@ void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
   row("sigma_rho2") << shape.sigma_rho2 << "\n";
   if (const octree::Detail& d = shape.detail; d.octaves > 0) {
     row("detail") << d.octaves << " octaves of wavelength " << d.wavelength << " / 2^k, amplitude " << d.amplitude
-                  << " x " << d.gain << "^k, seed " << d.seed << "; colour per unit height " << d.colour_slope.x
-                  << ", " << d.colour_slope.y << ", " << d.colour_slope.z << "\n";
+                  << " x " << d.gain << "^k, seed " << d.seed << "; colour per unit height " << d.colour_slope.x << ", "
+                  << d.colour_slope.y << ", " << d.colour_slope.z << "\n";
   } else {
     row("detail") << "none\n";
   }
@@ -140,6 +178,7 @@ void print_text(const octree::SvoView& svo, const std::vector<Level>& levels) {
                                                : std::to_string(shape.materials.size()))
                    << "\n";
   for (const std::string& m : shape.materials) std::cout << "  " << m << "\n";
+  print_source(shape.source, row);
   row("channels") << shape.channels.size() << "\n";
   for (size_t c = 0; c < shape.channels.size(); ++c) {
     const auto& info = shape.channels[c];

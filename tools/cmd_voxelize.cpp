@@ -145,6 +145,13 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     voxelizer::VoxelizeReport report;
     octree::Octree tree = voxelizer::voxelize(*source, options, &report);
     if (!material.empty()) tree.materials = {material};
+    // Where it came from and what was decided about the surface (svo info).
+    nlohmann::json provenance{{"input", what}, {"resolution", a->resolution}, {"brick_size", a->brick}};
+    if (!a->material.empty()) provenance["material"] = a->material;
+    const std::string surface = source->surface();
+    if (!surface.empty()) provenance["surface"] = surface;
+    tree.source = provenance.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (tree.source.size() > octree::kMaxSourceBytes) tree.source.clear();  // a path of 64 KiB: not recorded
     bar.update("writing", 1.0);
     auto write_start = std::chrono::steady_clock::now();
     octree::write_svo(a->output, tree);
@@ -178,7 +185,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
                          {"bytes", bytes},
                          {"bytes_per_voxel", voxels > 0 ? bytes / voxels : 0.0},
                          {"channels", channels},
-                         {"materials", tree.materials.size()}};
+                         {"materials", tree.materials.size()},
+                         {"surface", surface.empty() ? nlohmann::json(nullptr) : nlohmann::json(surface)}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << what << " -> " << a->output << ": " << tree.depth_count << " levels, " << tree.brick_count

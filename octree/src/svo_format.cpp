@@ -166,14 +166,39 @@ std::string check_materials(const std::vector<std::string>& materials) {
   return {};
 }
 
+std::vector<uint8_t> encode_source(const std::string& source) {
+  std::vector<uint8_t> out(4 + source.size());
+  put_u32(out.data(), uint32_t(source.size()));
+  std::memcpy(out.data() + 4, source.data(), source.size());
+  out.resize(align_up(out.size(), kTableAlign));
+  return out;
+}
+
+std::string check_source(const std::string& source) {
+  if (source.empty() || source.size() > kMaxSourceBytes) {
+    return "source block has " + std::to_string(source.size()) + " bytes of text (must be in [1, " +
+           std::to_string(kMaxSourceBytes) + "])";
+  }
+  if (source.find('\0') != std::string::npos) return "source block holds a NUL byte (must be JSON text)";
+  return {};
+}
+
 Layout plan_layout(const Octree& tree) {
   Layout l;
-  l.version = !tree.materials.empty() ? kVersionMaterials : tree.detail.octaves > 0 ? kVersionDetail : kVersion;
+  l.version = !tree.source.empty()      ? kVersionSource
+              : !tree.materials.empty() ? kVersionMaterials
+              : tree.detail.octaves > 0 ? kVersionDetail
+                                        : kVersion;
   l.channel_table = kHeaderBytes + (l.version >= kVersionDetail ? kDetailBytes : 0);
-  if (l.version == kVersionMaterials) {
+  if (l.version >= kVersionMaterials) {
     l.materials = l.channel_table;
     l.material_bytes = encode_materials(tree.materials).size();
     l.channel_table += l.material_bytes;
+  }
+  if (l.version >= kVersionSource) {
+    l.source = l.channel_table;
+    l.source_bytes = encode_source(tree.source).size();
+    l.channel_table += l.source_bytes;
   }
   l.depth_table = align_up(l.channel_table + kChannelEntryBytes * tree.channels.size(), kTableAlign);
   l.node_table = align_up(l.depth_table + 4 * tree.depth_first_node.size(), kDataAlign);

@@ -22,6 +22,7 @@ inline constexpr char kMagic[8] = {'S', 'V', 'O', 'C', 'T', 'R', 'E', 'E'};
 inline constexpr uint32_t kVersion = 2;
 inline constexpr uint32_t kVersionDetail = 3;
 inline constexpr uint32_t kVersionMaterials = 4;
+inline constexpr uint32_t kVersionSource = 5;
 inline constexpr uint64_t kHeaderBytes = 128;
 inline constexpr uint64_t kDetailBytes = 64;  // version 3: the detail block at offset 128
 inline constexpr uint32_t kMaxDetailOctaves = 32;
@@ -102,6 +103,10 @@ std::string check_detail(const Detail& d, float size);
 // The material block (svo_file.h): its bytes, and its rules; "" or what is wrong.
 std::vector<uint8_t> encode_materials(const std::vector<std::string>& materials);
 std::string check_materials(const std::vector<std::string>& materials);
+// The source block (svo_file.h, version 5): its bytes, and the rules on
+// its text; "" or what is wrong.
+std::vector<uint8_t> encode_source(const std::string& source);
+std::string check_source(const std::string& source);
 
 // XXH64 with seed 0.
 uint64_t checksum(std::span<const uint8_t> bytes);
@@ -114,7 +119,8 @@ inline uint64_t align_up(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
 // Where the writer puts each section of `tree` (validated).
 struct Layout {
   uint32_t version = kVersion;  // kVersionDetail when the octree has detail, kVersionMaterials with materials
-  uint64_t materials = 0, material_bytes = 0;  // version 4: the material block
+  uint64_t materials = 0, material_bytes = 0;  // versions 4 and 5: the material block
+  uint64_t source = 0, source_bytes = 0;       // version 5: the source block
   uint64_t channel_table = 0, depth_table = 0, node_table = 0, file_bytes = 0;
   std::vector<uint64_t> data_offset, data_bytes;
 };

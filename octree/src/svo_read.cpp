@@ -76,9 +76,9 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     fail("not an .svo file (magic is '" + printable(p, 8) + "', expected 'SVOCTREE')");
   }
   Header h = decode_header(p);
-  if (h.version < kVersion || h.version > kVersionMaterials) {
+  if (h.version < kVersion || h.version > kVersionSource) {
     fail("unsupported version " + u(h.version) + " (this build reads versions " + u(kVersion) + " to " +
-         u(kVersionMaterials) + ")");
+         u(kVersionSource) + ")");
   }
   if (h.header_bytes != kHeaderBytes) {
     fail("header_bytes is " + u(h.header_bytes) + " (version " + u(h.version) + " has 128)");
@@ -117,13 +117,15 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     shape_.detail = decode_detail(p + kHeaderBytes);
     end += kDetailBytes;
   }
-  if (h.version == kVersionMaterials) {
+  if (h.version >= kVersionMaterials) {
     // u32 count, u32 bytes (of the block before its padding), then per
     // material u32 length and the JSON text; padded with zeros to 8 bytes.
+    // Version 5 has the block even without materials (count 0).
     if (n < end + 8) fail("truncated: material block needs 8 bytes at offset " + u(end) + ", file has " + u(n));
     const uint32_t count = get_u32(p + end), bytes = get_u32(p + end + 4);
-    if (count < 1 || count > kMaxMaterials) {
-      fail("material count is " + u(count) + " (must be in [1, " + u(kMaxMaterials) + "])");
+    const uint32_t fewest = h.version >= kVersionSource ? 0 : 1;
+    if (count < fewest || count > kMaxMaterials) {
+      fail("material count is " + u(count) + " (must be in [" + u(fewest) + ", " + u(kMaxMaterials) + "])");
     }
     if (bytes < 8 + 4 * uint64_t(count) || bytes > n - end) {
       fail("material block of " + u(bytes) + " bytes at offset " + u(end) + " does not fit " + u(count) +
@@ -143,8 +145,25 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
       at += 4 + length;
     }
     if (at != end + bytes) fail("material block: " + u(end + bytes - at) + " bytes after the last material");
-    if (std::string why = check_materials(shape_.materials); !why.empty()) fail(why);
+    if (count > 0) {
+      if (std::string why = check_materials(shape_.materials); !why.empty()) fail(why);
+    }
     end = align_up(end + bytes, kTableAlign);
+  }
+  if (h.version >= kVersionSource) {
+    // u32 bytes, then that much JSON text; padded with zeros to 8 bytes.
+    if (n < end + 4) fail("truncated: source block needs 4 bytes at offset " + u(end) + ", file has " + u(n));
+    const uint32_t bytes = get_u32(p + end);
+    if (bytes < 1 || bytes > kMaxSourceBytes) {
+      fail("source block states " + u(bytes) + " bytes of text (must be in [1, " + u(kMaxSourceBytes) + "])");
+    }
+    if (bytes > n - end - 4) {
+      fail("source block of " + u(bytes) + " bytes at offset " + u(end) + " does not fit in a file of " + u(n) +
+           " bytes");
+    }
+    shape_.source.assign(reinterpret_cast<const char*>(p + end + 4), bytes);
+    if (std::string why = check_source(shape_.source); !why.empty()) fail(why);
+    end = align_up(end + 4 + uint64_t(bytes), kTableAlign);
   }
   end = check_section(name_, n, "channel table", h.channel_table_offset, h.channel_count, kChannelEntryBytes, end,
                       kTableAlign);
@@ -154,7 +173,7 @@ SvoView::SvoView(std::span<const uint8_t> bytes, std::string name) : bytes_(byte
     shape_.channels.push_back({Channel(entries.back().channel), Encoding(entries.back().encoding)});
   }
   if (std::string why = check_shape(shape_); !why.empty()) fail(why);
-  if (h.version == kVersionDetail || (h.version == kVersionMaterials && shape_.detail.octaves != 0)) {
+  if (h.version == kVersionDetail || (h.version >= kVersionMaterials && shape_.detail.octaves != 0)) {
     if (std::string why = check_detail(shape_.detail, shape_.size); !why.empty()) fail(why);
   }
   if (const int m = shape_.channel_index(Channel::Material); m >= 0 && shape_.materials.size() < 2) {

@@ -74,6 +74,9 @@ void validate_octree(const Octree& t) {
   if (t.detail.octaves > 0) {
     if (std::string why = check_detail(t.detail, t.size); !why.empty()) fail(why);
   }
+  if (!t.source.empty()) {
+    if (std::string why = check_source(t.source); !why.empty()) fail(why);
+  }
   if (!t.materials.empty()) {
     if (std::string why = check_materials(t.materials); !why.empty()) fail(why);
   }
@@ -118,8 +121,12 @@ void write_svo(const std::string& path, const Octree& tree) {
     encode_detail(tree.detail, detail);
     out.put(detail, sizeof detail);
   }
-  if (layout.version == kVersionMaterials) {
+  if (layout.version >= kVersionMaterials) {
     std::vector<uint8_t> block = encode_materials(tree.materials);
+    out.put(block.data(), block.size());
+  }
+  if (layout.version >= kVersionSource) {
+    std::vector<uint8_t> block = encode_source(tree.source);
     out.put(block.data(), block.size());
   }
 

@@ -220,7 +220,11 @@ int write_seeds(const fs::path& dir) {
     materials.channels.push_back({octree::Channel::Material, octree::Encoding::MaterialShare8});
     materials.brick_data.emplace_back(materials.pool_samples() * 2, uint8_t(1));
     octree::write_svo((d / "materials.svo").string(), materials);
-    count += 4;
+    // Version 5: a source block, after an empty material block.
+    octree::Octree source = octree::testing::make_tiny_tree();
+    source.source = R"({"input": "lion.off", "resolution": 64, "surface": "drawn two-sided"})";
+    octree::write_svo((d / "source.svo").string(), source);
+    count += 5;
   }
   // Parsed meshes: a closed cube, the same with colours, uv and textures, an open square.
   {

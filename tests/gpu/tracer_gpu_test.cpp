@@ -111,7 +111,9 @@ TEST_F(TracerGpu, RayMarchingWithManyRaysAgreesWithTheCpuTracer) {
   EXPECT_EQ(d.above, 0.0);
   for (size_t i = 0; i < g.gbuffer.size(); ++i) {
     EXPECT_NEAR(g.gbuffer[i].coverage, c.gbuffer[i].coverage, 0.02f) << "pixel " << i;
-    if (g.gbuffer[i].coverage > 0.5f) EXPECT_NEAR(g.gbuffer[i].depth, c.gbuffer[i].depth, 0.01f) << "pixel " << i;
+    if (g.gbuffer[i].coverage > 0.5f) {
+      EXPECT_NEAR(g.gbuffer[i].depth, c.gbuffer[i].depth, 0.01f) << "pixel " << i;
+    }
   }
   expect_silent(context);
 }

@@ -83,7 +83,9 @@ TEST(Environment, EveryLitDirectionHasAPositivePdfAndTheCornersOfTheSquareAreNot
     const glm::vec3 r = lit.k.svo_env_radiance(lit.k.shade, d);
     const float pdf = lit.k.svo_env_pdf(lit.k.shade, d);
     ASSERT_TRUE(std::isfinite(pdf));
-    if (r.x + r.y + r.z > 0) ASSERT_GT(pdf, 0.0f);
+    if (r.x + r.y + r.z > 0) {
+      ASSERT_GT(pdf, 0.0f);
+    }
   }
   for (glm::vec2 u : {glm::vec2(0, 0), glm::vec2(0.99999994f), glm::vec2(0, 0.99999994f), glm::vec2(1, 1)}) {
     const glm::vec4 s = lit.k.svo_env_sample(lit.k.shade, u);
@@ -308,7 +310,9 @@ TEST(AnalyticBrdfs, ReflectAtMostWhatArrives) {
       }
       const double albedo = sum / n;
       EXPECT_LE(albedo, 1.01) << brdf_name(m.kind) << " roughness " << m.roughness << " cos " << cos_v;
-      if (m.kind == BrdfKind::Lambert) EXPECT_NEAR(albedo, 1.0, 0.01);
+      if (m.kind == BrdfKind::Lambert) {
+        EXPECT_NEAR(albedo, 1.0, 0.01);
+      }
     }
   }
 }

@@ -116,10 +116,10 @@ TEST_F(SvoCorrupt, WrongMagicAndVersion) {
   bytes[0] = 'X';
   bytes[7] = 0;
   expect_rejected(bytes, "not an .svo file (magic is 'XVOCTRE\\x00', expected 'SVOCTREE')");
-  // Version 1 stored (B + 1)^3 samples per brick; this build reads versions 2 to 4.
+  // Version 1 stored (B + 1)^3 samples per brick; this build reads versions 2 to 5.
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 1); },
-                         "unsupported version 1 (this build reads versions 2 to 4)");
-  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 5); }, "unsupported version 5");
+                         "unsupported version 1 (this build reads versions 2 to 5)");
+  expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 6); }, "unsupported version 6");
   // Relabelled 4, its channel table is read as the detail and material blocks.
   expect_forged_rejected([](auto& b) { put_u32(b.data() + at::version, 4); }, "material block of");
   // A version-2 file relabelled 3 lacks the detail block its channel table must follow.
@@ -428,6 +428,54 @@ TEST_F(SvoCorrupt, MaterialBlock) {
   one.materials = {R"({"brdf": "lambert"})"};
   write_svo(dir_ / "one.svo", one);
   EXPECT_EQ(load_svo(dir_ / "one.svo").materials, one.materials);
+}
+
+// Version 5: the source block (where the octree came from, svo info), after
+// a material block that may then be empty.
+TEST_F(SvoCorrupt, SourceBlock) {
+  Octree tree = testing::make_test_tree(9);
+  tree.source = R"({"input": "lion.off", "resolution": 64, "surface": "drawn two-sided"})";
+  write_svo(dir_ / "source.svo", tree);
+  const std::vector<uint8_t> good = testing::read_bytes(dir_ / "source.svo");
+  ASSERT_EQ(format::decode_header(good.data()).version, 5u);
+  const Octree back = load_svo(dir_ / "source.svo");
+  EXPECT_EQ(back.source, tree.source);
+  EXPECT_TRUE(back.materials.empty());
+  EXPECT_EQ(back.brick_data, tree.brick_data);
+  EXPECT_EQ(MappedSvo(dir_ / "source.svo")->version(), 5u);
+  // After the detail block (128 + 64) and the empty material block (8 bytes).
+  const size_t block = format::kHeaderBytes + format::kDetailBytes + 8;
+  auto forged = [&](size_t offset, uint32_t value, const std::string& what) {
+    std::vector<uint8_t> bytes = good;
+    put_u32(bytes.data() + offset, value);
+    format::seal(bytes);
+    expect_rejected(bytes, what);
+  };
+  forged(block, 0, "source block states 0 bytes of text (must be in [1, 65536])");
+  forged(block, 65537, "source block states 65537 bytes of text");
+  forged(block, 60000, "source block of 60000 bytes at offset 200 does not fit");
+  forged(block - 8, 256, "material count is 256 (must be in [0, 255])");
+  {
+    std::vector<uint8_t> bytes = good;
+    bytes[block + 4 + 5] = 0;
+    format::seal(bytes);
+    expect_rejected(bytes, "source block holds a NUL byte");
+  }
+  std::vector<uint8_t> truncated(good.begin(), good.begin() + block + 2);
+  expect_rejected(truncated, "truncated: source block needs 4 bytes at offset 200");
+  // The writer refuses what the reader would.
+  Octree bad = tree;
+  bad.source = std::string("a\0b", 3);
+  EXPECT_THROW(write_svo(dir_ / "bad.svo", bad), std::invalid_argument);
+  bad.source = std::string(kMaxSourceBytes + 1, 'x');
+  EXPECT_THROW(write_svo(dir_ / "bad.svo", bad), std::invalid_argument);
+  // With materials too: both blocks read back.
+  Octree both = tree;
+  both.materials = {R"({"brdf": "lambert"})"};
+  write_svo(dir_ / "both.svo", both);
+  const Octree both_back = load_svo(dir_ / "both.svo");
+  EXPECT_EQ(both_back.materials, both.materials);
+  EXPECT_EQ(both_back.source, both.source);
 }
 
 }  // namespace svo::octree

@@ -121,7 +121,7 @@ TEST(SvoGolden, VersionOneFileIsRefused) {
     load_svo(dir / "v1.svo");
     ADD_FAILURE() << "loaded a version 1 file";
   } catch (const FileError& e) {
-    EXPECT_EQ(std::string(e.what()), dir / "v1.svo" + ": unsupported version 1 (this build reads versions 2 to 4)");
+    EXPECT_EQ(std::string(e.what()), dir / "v1.svo" + ": unsupported version 1 (this build reads versions 2 to 5)");
   }
 }
 

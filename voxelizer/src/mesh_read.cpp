@@ -676,22 +676,25 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     shares = winding_shares(out);
     out.two_sided = shares.closed < kClosedShare;
   }
+  std::string decided = "a closed manifold surface: drawn as a solid";
+  if (out.open_edges || out.nonmanifold_edges) {
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "by the winding number, %.1f%% of its area is closed (%.0f%% bounds a volume, %.0f%% is a sheet)",
+                  100 * shares.closed, 100 * shares.bounds_volume, 100 * (1 - shares.bounds_volume));
+    decided =
+        "not a closed manifold surface (" + std::to_string(out.open_edges) + " open edges, " +
+        std::to_string(out.nonmanifold_edges) + " non-manifold edges): " +
+        (out.two_sided ? "drawn two-sided, as a thin shell around every triangle; "
+                       : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
+        why;
+  }
+  out.surface = decided;
   if (options.warning) {
     if (out.degenerate) {
       options.warning(path + ": " + std::to_string(out.degenerate) + " triangles of zero area dropped");
     }
-    if (out.open_edges || out.nonmanifold_edges) {
-      char why[200];
-      std::snprintf(why, sizeof why,
-                    "by the winding number, %.1f%% of its area is closed (%.0f%% bounds a volume, %.0f%% is a sheet)",
-                    100 * shares.closed, 100 * shares.bounds_volume, 100 * (1 - shares.bounds_volume));
-      options.warning(path + ": not a closed manifold surface (" + std::to_string(out.open_edges) + " open edges, " +
-                      std::to_string(out.nonmanifold_edges) + " non-manifold edges): " +
-                      (out.two_sided
-                           ? "drawn two-sided, as a thin shell around every triangle; "
-                           : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
-                      why);
-    }
+    if (out.open_edges || out.nonmanifold_edges) options.warning(path + ": " + decided);
   }
   return out;
 }

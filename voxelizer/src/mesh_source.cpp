@@ -63,6 +63,7 @@ class MeshSource : public SurfaceSource {
   float sigma_rho2() const override { return mesh_.sigma_rho2; }
   double surface_area() const override { return mesh_.area; }
   std::vector<std::string> materials() const override { return mesh_.materials; }
+  std::string surface() const override { return mesh_.surface; }
   // Narrow band of 3 voxels each side, float distance + int32 polygon index, tree overhead.
   double bytes_per_sample() const override { return 6 * (4 + 4) * 1.5; }
 

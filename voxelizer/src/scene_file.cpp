@@ -248,8 +248,13 @@ TriangleMesh read_scene_file(const std::string& path, const MeshOptions& options
         without = int(i);
       }
     }
+    if (part.two_sided && !out.two_sided) {
+      out.surface = "object " + std::to_string(i) + " (" + mesh_path.string() + ") is " + part.surface +
+                    "; the whole scene with it";
+    }
     append(out, std::move(part), m, material);
   }
+  if (!out.two_sided) out.surface = "every object closed, or its holes small: drawn as a solid";
   if (out.triangles.empty()) throw std::runtime_error(where + ": no triangle of non-zero area");
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto& p : out.positions) {

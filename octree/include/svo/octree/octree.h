@@ -118,6 +118,8 @@ struct Voxel {
 constexpr uint32_t kMaxMaterials = 255;
 // Longest material description, bytes of JSON text.
 constexpr uint32_t kMaxMaterialBytes = 65536;
+// Longest provenance text (Octree::source), bytes.
+constexpr uint32_t kMaxSourceBytes = 65536;
 
 struct Node {
   uint32_t children = kNone;  // index of the first of 8 child nodes, or kNone
@@ -152,6 +154,10 @@ struct Octree {
   // DESIGN 10.2), empty when the scene has none of its own. With two or
   // more, the Material channel says which one each voxel shows.
   std::vector<std::string> materials;
+  // Where the octree came from, as JSON text (the voxelizer's input, its
+  // settings, what it decided about the surface: `svo info` shows it);
+  // empty: not recorded. At most kMaxSourceBytes, no NUL byte.
+  std::string source;
 
   std::vector<ChannelInfo> channels;       // in storage order
   std::vector<uint32_t> depth_first_node;  // size depth_count + 1; nodes of depth d: [first[d], first[d+1])

@@ -10,7 +10,7 @@
 //   header, 128 bytes at offset 0
 //     off size  field
 //       0    8  magic "SVOCTREE"
-//       8    4  u32 version = 2, 3 or 4 (version 1 stored (brick_size + 1)^3
+//       8    4  u32 version = 2, 3, 4 or 5 (version 1 stored (brick_size + 1)^3
 //                                   samples per brick; it is refused)
 //      12    4  u32 header_bytes = 128
 //      16    4  u32 brick_size        power of two in [2, 32]
@@ -48,8 +48,14 @@
 //               of JSON text (no NUL), back to back; they fill exactly `bytes`
 //               then zeros up to a multiple of 8
 //   A Material channel needs two or more materials.
+//   version 5: the same detail and material blocks (whose count may then be
+//   0: the block is 8 bytes), then the source block (Octree::source):
+//       0    4  u32 bytes             [1, 65536]
+//       4       that many bytes of JSON text (no NUL): where the octree came
+//               from; then zeros up to a multiple of 8
 //   channel table, channel_count entries of 32 bytes (at or after the end
-//   of the header, of the detail block in version 3, of the material block in 4)
+//   of the header, of the detail block in version 3, of the material block in 4,
+//   of the source block in 5)
 //       0    4  u32 channel           Channel, unique within the file
 //       4    4  u32 encoding          Encoding, encoding_fits(channel, encoding)
 //       8    4  u32 bytes_per_sample  = encoding_bytes(encoding)
@@ -132,8 +138,10 @@ class SvoView {
 
   const std::string& name() const { return name_; }
   uint64_t file_bytes() const { return bytes_.size(); }
-  // 3: with the detail block, 4: with materials
-  uint32_t version() const { return !shape_.materials.empty() ? 4 : shape_.detail.octaves > 0 ? 3 : 2; }
+  // 3: with the detail block, 4: with materials, 5: with a source block
+  uint32_t version() const {
+    return !shape_.source.empty() ? 5 : !shape_.materials.empty() ? 4 : shape_.detail.octaves > 0 ? 3 : 2;
+  }
 
   // The header's scalar fields, channels and depth table, as an Octree with
   // no nodes and no brick data (its brick_count is set).

@@ -95,6 +95,10 @@ struct TriangleMesh {
   // and the lion's open head, not the Chinese dragon's six open edges).
   // Else a solid (OpenVDB's flood fill decides inside and outside).
   bool two_sided = false;
+  // What was decided about inside and outside, and why, one line
+  // ("two-sided: ...", "solid: ..."): the warning says it, and the octree
+  // records it (svo info).
+  std::string surface;
   double area = 0;  // scene units squared
   float sigma_rho2 = 0.01f;
   Box bounds;

@@ -85,6 +85,9 @@ class SurfaceSource {
   // octree; FinePoint::material indexes them. Empty: the scene has none of
   // its own (the renderer's --material or built-in one applies).
   virtual std::vector<std::string> materials() const { return {}; }
+  // What was decided about the surface's inside and outside, one line
+  // (TriangleMesh::surface); empty where there was nothing to decide.
+  virtual std::string surface() const { return {}; }
   // Called once before any other query below, with the lattice to serve.
   virtual void prepare(const Lattice& lattice) = 0;
   // Finest-level bricks (`brick_size` cells, brick b owns lattice points
