@@ -383,15 +383,19 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   // count and pushed 4 GiB of handles, found by the mesh_file fuzz target;
   // it kept 1 of the 20 triangles of libcgal-demo's quint_tris.off): read
   // by svo's own reader instead.
+  // The 4OFF and nOFF forms, which that reader does not read, are refused
+  // rather than handed to OpenMesh.
   if (face_colours) {
     std::optional<MeshArrays> plain = read_off_plainly(path);
-    if (plain) {
-      if (options.warning) {
-        options.warning(path + ": faces with colours: read by svo's own OFF reader (positions and faces; colours " +
-                        "not read)");
-      }
-      return make_triangle_mesh(path, std::move(*plain), options);
+    if (!plain) {
+      throw std::runtime_error(path + ": a 4OFF or nOFF file whose faces carry colours: not read (OpenMesh's " +
+                               "reader misreads face colours; write it as plain OFF)");
     }
+    if (options.warning) {
+      options.warning(path + ": faces with colours: read by svo's own OFF reader (positions and faces; colours " +
+                      "not read)");
+    }
+    return make_triangle_mesh(path, std::move(*plain), options);
   }
   // OpenMesh opens the OBJ's material files itself.
   if (lower_extension(path) == ".obj") screen::check_obj_material_files(path, options.warning);
