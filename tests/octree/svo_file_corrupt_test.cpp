@@ -54,6 +54,19 @@ class SvoCorrupt : public ::testing::Test {
     expect_rejected(bytes, what);
   }
 
+  // `bytes` with the 32-bit value `value` at `offset` (resealed), or with
+  // `bytes[offset]` = 0 when `nul`: refused with `what`.
+  void expect_put_rejected(std::vector<uint8_t> bytes, size_t offset, uint32_t value, const std::string& what,
+                           bool nul = false) {
+    if (nul) {
+      bytes[offset] = 0;
+    } else {
+      put_u32(bytes.data() + offset, value);
+    }
+    format::seal(bytes);
+    expect_rejected(bytes, what);
+  }
+
   uint8_t* node(std::vector<uint8_t>& b, size_t i) { return b.data() + header_.node_table_offset + 8 * i; }
   uint8_t* channel(std::vector<uint8_t>& b, size_t c) { return b.data() + header_.channel_table_offset + 32 * c; }
   uint8_t* depth(std::vector<uint8_t>& b, size_t d) { return b.data() + header_.depth_table_offset + 4 * d; }
@@ -394,10 +407,7 @@ TEST_F(SvoCorrupt, MaterialBlock) {
   // The block starts after the (empty) detail block at 128 + 64.
   const size_t block = format::kHeaderBytes + format::kDetailBytes;
   auto forged = [&](size_t offset, uint32_t value, const std::string& what) {
-    std::vector<uint8_t> bytes = good;
-    put_u32(bytes.data() + block + offset, value);
-    format::seal(bytes);
-    expect_rejected(bytes, what);
+    expect_put_rejected(good, block + offset, value, what);
   };
   forged(0, 0, "material count is 0 (must be in [1, 255])");
   forged(0, 256, "material count is 256");
@@ -408,12 +418,7 @@ TEST_F(SvoCorrupt, MaterialBlock) {
   forged(8, 0xFFFFFFFFu, "material 0 has 4294967295 bytes (must be in [1, 65536])");
   forged(8, 1000, "material 0 has 1000 bytes, past the block's end");
   forged(8, 0, "material 0 has 0 bytes (must be in [1, 65536])");
-  {
-    std::vector<uint8_t> bytes = good;
-    bytes[block + 12 + 3] = 0;
-    format::seal(bytes);
-    expect_rejected(bytes, "material 0 holds a NUL byte");
-  }
+  expect_put_rejected(good, block + 12 + 3, 0, "material 0 holds a NUL byte", true);
   std::vector<uint8_t> truncated(good.begin(), good.begin() + block + 4);
   expect_rejected(truncated, "truncated: material block needs 8 bytes at offset 192");
   // A material channel needs a choice of materials.
@@ -446,21 +451,13 @@ TEST_F(SvoCorrupt, SourceBlock) {
   // After the detail block (128 + 64) and the empty material block (8 bytes).
   const size_t block = format::kHeaderBytes + format::kDetailBytes + 8;
   auto forged = [&](size_t offset, uint32_t value, const std::string& what) {
-    std::vector<uint8_t> bytes = good;
-    put_u32(bytes.data() + offset, value);
-    format::seal(bytes);
-    expect_rejected(bytes, what);
+    expect_put_rejected(good, offset, value, what);
   };
   forged(block, 0, "source block states 0 bytes of text (must be in [1, 65536])");
   forged(block, 65537, "source block states 65537 bytes of text");
   forged(block, 60000, "source block of 60000 bytes at offset 200 does not fit");
   forged(block - 8, 256, "material count is 256 (must be in [0, 255])");
-  {
-    std::vector<uint8_t> bytes = good;
-    bytes[block + 4 + 5] = 0;
-    format::seal(bytes);
-    expect_rejected(bytes, "source block holds a NUL byte");
-  }
+  expect_put_rejected(good, block + 4 + 5, 0, "source block holds a NUL byte", true);
   std::vector<uint8_t> truncated(good.begin(), good.begin() + block + 2);
   expect_rejected(truncated, "truncated: source block needs 4 bytes at offset 200");
   // The writer refuses what the reader would.
