@@ -248,7 +248,13 @@ int write_seeds(const fs::path& dir) {
       put(d / (std::string("cube_") + formats[k]), with_prefix({k}, cube_text(formats[k])));
     put(d / "cube_ply_binary_le", with_prefix({2}, cube_binary_ply(false)));
     put(d / "cube_ply_binary_be", with_prefix({2}, cube_binary_ply(true)));
-    count += 6;
+    // OFF files svo's own reader reads: comment lines before the keyword
+    // (as CGAL writes them), face colours.
+    put(d / "cube_off_comments_first", with_prefix({1}, "# Output of a CGAL tool\n#CBP\n\n" + cube_text("off")));
+    put(d / "tetra_off_face_colours",
+        with_prefix({1}, "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 1 0 0\n3 0 1 3 0 1 0\n3 0 3 2 0 0 1\n"
+                         "3 1 2 3 0.5 0.5 0.5\n"));
+    count += 8;
   }
   // Cameras, lights, paths: the first byte picks the parser.
   {

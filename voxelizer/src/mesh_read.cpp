@@ -314,7 +314,12 @@ namespace {
 std::optional<MeshArrays> read_off_plainly(const std::string& path) {
   std::ifstream in(path);
   std::string first;
-  std::getline(in, first);
+  // Comment and blank lines before the keyword, as the screen skips them.
+  while (std::getline(in, first)) {
+    const size_t text = first.find_first_not_of(" \t\r");
+    if (text != std::string::npos && first[text] != '#') break;
+    first.clear();
+  }
   const size_t keyword = first.find("OFF");
   if (keyword == std::string::npos || first.find_first_of("4n") < keyword) return std::nullopt;
   // Vertex, face and edge counts, comment lines between them skipped, as
@@ -374,25 +379,26 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   mesh.request_face_texture_index();
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
   double file_triangles = -1;
-  bool face_colours = false;
-  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &face_colours); !why.empty()) {
+  std::string own_reader;
+  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &own_reader); !why.empty()) {
     throw std::runtime_error(path + ": " + why);
   }
-  // A plain OFF file whose face lines carry colours: OpenMesh's reader
-  // misreads them (it took a colour of -2 for the next face's corner
-  // count and pushed 4 GiB of handles, found by the mesh_file fuzz target;
-  // it kept 1 of the 20 triangles of libcgal-demo's quint_tris.off): read
-  // by svo's own reader instead.
-  // The 4OFF and nOFF forms, which that reader does not read, are refused
+  // An OFF file OpenMesh's reader cannot be trusted with is read by svo's
+  // own reader: one whose face lines carry colours (OpenMesh took a colour
+  // of -2 for the next face's corner count and pushed 4 GiB of handles,
+  // found by the mesh_file fuzz target; it kept 1 of the 20 triangles of
+  // libcgal-demo's quint_tris.off), or one with comment lines before its
+  // keyword (OpenMesh refuses it: libcgal-demo's cube-shuffled.off). The
+  // 4OFF and nOFF forms, which that reader does not read, are refused
   // rather than handed to OpenMesh.
-  if (face_colours) {
+  if (!own_reader.empty()) {
     std::optional<MeshArrays> plain = read_off_plainly(path);
     if (!plain) {
-      throw std::runtime_error(path + ": a 4OFF or nOFF file whose faces carry colours: not read (OpenMesh's " +
-                               "reader misreads face colours; write it as plain OFF)");
+      throw std::runtime_error(path + ": a 4OFF or nOFF file with " + own_reader + ": not read (OpenMesh's " +
+                               "reader cannot be trusted with it; write it as plain OFF)");
     }
     if (options.warning) {
-      options.warning(path + ": faces with colours: read by svo's own OFF reader (positions and faces; colours " +
+      options.warning(path + ": " + own_reader + ": read by svo's own OFF reader (positions and faces; colours " +
                       "not read)");
     }
     return make_triangle_mesh(path, std::move(*plain), options);
@@ -402,10 +408,10 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
     throw std::runtime_error(path + ": cannot read it as a mesh (OBJ, PLY, OFF or STL)");
   }
-  if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
   // OpenMesh drops a face it cannot add (a corner repeated, a third face on
   // an edge) without a word: an OFF file is then read by our own reader,
   // others are said to have lost triangles, against the screen's count.
+  // (It kept none of libcgal-demo's cube_poly.off, triangles and quads.)
   if (file_triangles > double(mesh.n_faces())) {
     const auto file = uint64_t(file_triangles);
     const std::string kept = std::to_string(mesh.n_faces()) + " of " + std::to_string(file) + " triangles";
@@ -424,6 +430,7 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
                       "others)");
     }
   }
+  if (mesh.n_faces() == 0) throw std::runtime_error(path + ": the mesh has no faces");
   bool colours = opt.check(OpenMesh::IO::Options::VertexColor);
   MeshArrays arrays;
   arrays.positions.reserve(mesh.n_vertices());

@@ -303,10 +303,17 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles
 // than the file: OpenMesh reads "-5" into an unsigned count and reserves
 // memory for it (16 GiB, found by the mesh_file fuzz target). Binary OFF is
 // refused (its counts' byte order is OpenMesh's guess).
-std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles, bool& face_colours) {
+std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles, std::string& own_reader) {
+  // Comment and blank lines may come before the keyword (CGAL writes them).
   std::string first;
-  std::getline(in, first);
-  if (!first.empty() && first.back() == '\r') first.pop_back();
+  size_t skipped = 0;
+  while (std::getline(in, first)) {
+    if (!first.empty() && first.back() == '\r') first.pop_back();
+    const size_t text = first.find_first_not_of(" \t");
+    if (text != std::string::npos && first[text] != '#') break;
+    ++skipped;
+    first.clear();
+  }
   size_t at = 0;
   for (const char* prefix : {"ST", "C", "N", "4", "n"}) {
     if (first.compare(at, std::strlen(prefix), prefix) == 0) at += std::strlen(prefix);
@@ -339,7 +346,7 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles
   const int64_t vertices = int64_t(counts[0]), faces = int64_t(counts[1]);
   std::string line;
   int64_t seen_vertices = 0, seen_faces = 0;
-  for (size_t number = 3; seen_faces < faces && std::getline(in, line); ++number) {
+  for (size_t number = 3 + skipped; seen_faces < faces && std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::vector<std::string> w;
     for (std::string word; words >> word && word[0] != '#';) w.push_back(word);
@@ -374,13 +381,14 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles
     for (size_t i = k + 1; i < w.size(); ++i) {
       if (!is_number(w[i])) return where + "'" + w[i].substr(0, 40) + "' is not a number";
     }
-    if (w.size() > 1 + k) face_colours = true;
+    if (w.size() > 1 + k) own_reader = "faces with colours";
     if ((triangles += double(k) - 2) > kMaxMeshTriangles) {
       return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
     }
     ++seen_faces;
   }
   if (seen_vertices < vertices || seen_faces < faces) return "OFF file ends before its vertices and faces";
+  if (skipped > 0 && own_reader.empty()) own_reader = "comment lines before the OFF keyword";
   return "";
 }
 
@@ -534,9 +542,9 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string screen_mesh_file(const std::string& path, double* triangles, bool* face_colours) {
+std::string screen_mesh_file(const std::string& path, double* triangles, std::string* own_reader) {
   if (triangles) *triangles = -1;
-  if (face_colours) *face_colours = false;
+  if (own_reader) own_reader->clear();
   const std::string ext = lower_extension(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";  // OpenMesh reports it
@@ -544,12 +552,12 @@ std::string screen_mesh_file(const std::string& path, double* triangles, bool* f
   const uintmax_t bytes = std::filesystem::file_size(path, error);
   if (error) return "";
   double counted = 0;
-  bool colours = false;
+  std::string own;
   std::string why;
   if (ext == ".ply") {
     why = screen_ply(in, bytes, counted);
   } else if (ext == ".off") {
-    why = screen_off(in, bytes, counted, colours);
+    why = screen_off(in, bytes, counted, own);
   } else if (ext == ".obj") {
     why = screen_obj(in, counted);
   } else if (ext == ".stl") {
@@ -558,7 +566,7 @@ std::string screen_mesh_file(const std::string& path, double* triangles, bool* f
     return "";
   }
   if (triangles && why.empty()) *triangles = counted;
-  if (face_colours && why.empty()) *face_colours = colours;
+  if (own_reader && why.empty()) *own_reader = own;
   return why;
 }
 

@@ -28,10 +28,12 @@ std::string lower_extension(const std::string& path);
 // the triangle count of a binary file, the facets of an ASCII one. All:
 // at most kMaxMeshTriangles triangles.
 // `triangles`, when given: the triangles the file's faces make (k - 2 for
-// a face of k corners), or -1 when nothing was screened. `face_colours`,
-// when given: whether an OFF file's face lines carry numbers after their
-// corners (colours, which OpenMesh's reader misreads).
-std::string screen_mesh_file(const std::string& path, double* triangles = nullptr, bool* face_colours = nullptr);
+// a face of k corners), or -1 when nothing was screened. `own_reader`,
+// when given: why an OFF file must be read by svo's own reader, or "":
+// "faces with colours" (numbers after a face's corners, which OpenMesh's
+// reader misreads), "comment lines before the OFF keyword" (as CGAL writes
+// them; OpenMesh's reader refuses the file).
+std::string screen_mesh_file(const std::string& path, double* triangles = nullptr, std::string* own_reader = nullptr);
 
 // Checks the OBJ's mtllib files where OpenMesh and read_mtl_materials look
 // for them (relative to the OBJ): each must be a regular file of at most
