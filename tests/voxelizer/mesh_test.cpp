@@ -114,6 +114,21 @@ TEST(Mesh, EveryFormatGivesTheSameCube) {
   }
 }
 
+// A cube whose faces are all wound clockwise (inside out, as libcgal-demo's
+// tetrahedron, beam and ellipsoid are): the same distances and outward
+// normals. Its normals pointed inwards, and it rendered dark.
+TEST(Mesh, InsideOutFacesGiveOutwardNormals) {
+  std::string s = "OFF\n8 12 0\n";
+  for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (auto& t : kTriangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[2]) + " " + std::to_string(t[1]) + "\n";
+  auto mesh = voxelizer::load_mesh(write_file("inside_out.off", s));
+  voxelizer::VoxelizeOptions options;
+  options.resolution = 64;
+  octree::Octree tree = voxelizer::voxelize(*mesh, options);
+  expect_cube_distances(tree);
+}
+
 TEST(Mesh, VertexColoursReachTheVoxels) {
   auto mesh = voxelizer::load_mesh(write_file("colours.ply", cube_ply()));
   voxelizer::VoxelizeOptions options;

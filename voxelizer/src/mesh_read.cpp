@@ -687,6 +687,29 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     shares = winding_shares(out);
     out.two_sided = shares.closed < kClosedShare;
   }
+  // A solid wound inside out (its faces clockwise seen from outside, so a
+  // negative volume: libcgal-demo's tetrahedron, beam and ellipsoid) has
+  // its faces turned: their normals, which shading reads, pointed inwards
+  // and drew it dark. (Inside and outside come from the distance, not the
+  // winding, so only the normals were wrong.)
+  bool turned = false;
+  if (!out.two_sided) {
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    double volume = 0;
+    for (const glm::ivec3& t : out.triangles) {
+      const glm::dvec3 a = out.positions[size_t(t.x)] - centre, b = out.positions[size_t(t.y)] - centre,
+                       c = out.positions[size_t(t.z)] - centre;
+      volume += glm::dot(a, glm::cross(b, c));
+    }
+    if (volume < 0) {
+      turned = true;
+      for (size_t f = 0; f < out.triangles.size(); ++f) {
+        std::swap(out.triangles[f].y, out.triangles[f].z);
+        std::swap(out.face_uv[f][1], out.face_uv[f][2]);
+        out.face_normals[f] = -out.face_normals[f];
+      }
+    }
+  }
   std::string decided = "a closed manifold surface: drawn as a solid";
   if (out.open_edges || out.nonmanifold_edges) {
     char why[200];
@@ -700,12 +723,17 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
                        : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
         why;
   }
+  if (turned) decided += "; its faces were wound inside out (clockwise seen from outside): turned";
   out.surface = decided;
   if (options.warning) {
     if (out.degenerate) {
       options.warning(path + ": " + std::to_string(out.degenerate) + " triangles of zero area dropped");
     }
-    if (out.open_edges || out.nonmanifold_edges) options.warning(path + ": " + decided);
+    if (out.open_edges || out.nonmanifold_edges) {
+      options.warning(path + ": " + decided);
+    } else if (turned) {
+      options.warning(path + ": its faces are wound inside out (clockwise seen from outside): turned");
+    }
   }
   return out;
 }

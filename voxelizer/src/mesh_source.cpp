@@ -168,7 +168,16 @@ class MeshSource : public SurfaceSource {
               // interpolation drew the jump as a staircase (the Chinese
               // dragon at 512^3, issue 20 item 2).
               const bool on_edge = std::min({bary.x, bary.y, bary.z}) <= 0;
-              if (on_edge && exact > 1e-3 * h) point.normal = glm::vec3((p - c) / (d < 0 ? -exact : exact));
+              if (on_edge && exact > 1e-3 * h) {
+                point.normal = glm::vec3((p - c) / (d < 0 ? -exact : exact));
+              } else if (exact > 1e-3 * h && (glm::dot(p - c, glm::dvec3(point.normal)) < 0) != (d < 0)) {
+                // A face wound the other way (the whole mesh inside out, as
+                // libcgal-demo's tetrahedron, beam and ellipsoid are, or
+                // some faces flipped): its normal turned to agree with the
+                // side the distance puts the point on. Shading with the
+                // inward normals drew those meshes dark.
+                point.normal = -point.normal;
+              }
             }
           } else {
             float magnitude = std::max(std::abs(d), band);
