@@ -335,6 +335,7 @@ std::optional<MeshArrays> read_off_plainly(const std::string& path) {
   arrays.positions.reserve(size_t(counts[0]));
   int64_t faces = 0;
   for (std::string line; faces < counts[1] && std::getline(in, line);) {
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.erase(hash);  // a comment
     std::istringstream words(line);
     std::vector<std::string> w;
     for (std::string word; words >> word && word[0] != '#';) w.push_back(word);

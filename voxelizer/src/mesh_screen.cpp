@@ -347,6 +347,15 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles
   std::string line;
   int64_t seen_vertices = 0, seen_faces = 0;
   for (size_t number = 3 + skipped; seen_faces < faces && std::getline(in, line); ++number) {
+    // A comment runs from # to the end of the line, also where it follows a
+    // number without a space ("0.9 0 0#red", which OpenMesh would misread:
+    // such a file goes to svo's own reader).
+    if (const size_t hash = line.find('#'); hash != std::string::npos) {
+      if (hash > 0 && !std::isspace(static_cast<unsigned char>(line[hash - 1])) && own_reader.empty()) {
+        own_reader = "comments glued to numbers";
+      }
+      line.erase(hash);
+    }
     std::istringstream words(line);
     std::vector<std::string> w;
     for (std::string word; words >> word && word[0] != '#';) w.push_back(word);
