@@ -129,6 +129,31 @@ TEST(Mesh, InsideOutFacesGiveOutwardNormals) {
   expect_cube_distances(tree);
 }
 
+// A cube five of whose faces are wound against their neighbours (as in
+// libcgal-demo's cube-shuffled.off, which drew those triangles dark): turned
+// to agree, so the distances and outward normals are the cube's, and the
+// warning counts them.
+TEST(Mesh, FacesWoundAgainstTheirNeighboursAreTurned) {
+  std::string s = "OFF\n8 12 0\n";
+  for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (int f = 0; f < 12; ++f) {
+    const int* t = kTriangles[f];
+    const bool against = f % 5 == 1 || f == 4;  // faces 1, 4, 6, 11
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(against ? t[2] : t[1]) + " " +
+         std::to_string(against ? t[1] : t[2]) + "\n";
+  }
+  std::string warning;
+  voxelizer::MeshOptions options;
+  options.warning = [&](const std::string& w) { warning += w + "\n"; };
+  auto mesh = voxelizer::mesh_source(voxelizer::read_mesh(write_file("shuffled.off", s), options));
+  EXPECT_NE(warning.find("4 of its 12 faces were wound against the others or inside out: turned"), std::string::npos)
+      << warning;
+  voxelizer::VoxelizeOptions vo;
+  vo.resolution = 64;
+  octree::Octree tree = voxelizer::voxelize(*mesh, vo);
+  expect_cube_distances(tree);
+}
+
 TEST(Mesh, VertexColoursReachTheVoxels) {
   auto mesh = voxelizer::load_mesh(write_file("colours.ply", cube_ply()));
   voxelizer::VoxelizeOptions options;

@@ -19,6 +19,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 #include "common/shared_math.h"
@@ -562,6 +563,88 @@ WindingShares winding_shares(const TriangleMesh& mesh) {
 
 }  // namespace
 
+namespace {
+
+// Turns the faces of `mesh` that are wound against their neighbours: across
+// every edge two triangles share (by vertex index; not across open or
+// non-manifold edges), the second follows the first, breadth first from
+// the first face of each connected piece; then each closed piece whose
+// volume is negative (wound inside out) is turned whole. Returns the
+// number of faces turned. Shading reads the faces' normals: libcgal-demo's
+// cube-shuffled.off, whose faces are wound at random, drew half its
+// triangles dark.
+size_t orient_consistently(TriangleMesh& mesh) {
+  const size_t m = mesh.triangles.size();
+  auto key = [&](int a, int b) {
+    const uint32_t i = mesh.welded[size_t(a)], j = mesh.welded[size_t(b)];
+    return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
+  };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> faces_of;
+  faces_of.reserve(3 * m / 2);
+  for (size_t f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k)
+      faces_of[key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3])].push_back(uint32_t(f));
+  // Whether face f, as stored, runs from a to b (by position) along one of its edges.
+  auto runs = [&](size_t f, int a, int b) {
+    const glm::ivec3& t = mesh.triangles[f];
+    const uint32_t wa = mesh.welded[size_t(a)], wb = mesh.welded[size_t(b)];
+    for (int k = 0; k < 3; ++k)
+      if (mesh.welded[size_t(t[k])] == wa && mesh.welded[size_t(t[(k + 1) % 3])] == wb) return true;
+    return false;
+  };
+  std::vector<int8_t> flip(m, -1);  // -1: not reached yet
+  std::vector<uint32_t> queue, piece;
+  size_t turned = 0;
+  for (size_t seed = 0; seed < m; ++seed) {
+    if (flip[seed] >= 0) continue;
+    flip[seed] = 0;
+    queue.assign(1, uint32_t(seed));
+    piece.clear();
+    bool closed = true;
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const uint32_t f = queue[q];
+      piece.push_back(f);
+      const glm::ivec3& t = mesh.triangles[f];
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        const std::vector<uint32_t>& shared = faces_of[key(a, b)];
+        if (shared.size() != 2) {
+          closed = false;
+          continue;
+        }
+        const uint32_t g = shared[0] == f ? shared[1] : shared[0];
+        if (flip[g] >= 0) continue;
+        // f runs a -> b as it will be (after its own turn); g must run b -> a.
+        const bool f_ab = flip[f] == 0;
+        const bool g_ab = runs(g, a, b);
+        flip[g] = int8_t(g_ab == f_ab ? 1 : 0);
+        queue.push_back(g);
+      }
+    }
+    if (!closed) continue;
+    // A closed piece: its volume as it will be wound says whether to turn it whole.
+    double volume = 0;
+    for (uint32_t f : piece) {
+      glm::ivec3 t = mesh.triangles[f];
+      if (flip[f]) std::swap(t.y, t.z);
+      volume +=
+          glm::dot(mesh.positions[size_t(t.x)], glm::cross(mesh.positions[size_t(t.y)], mesh.positions[size_t(t.z)]));
+    }
+    if (volume < 0)
+      for (uint32_t f : piece) flip[f] = int8_t(1 - flip[f]);
+  }
+  for (size_t f = 0; f < m; ++f) {
+    if (!flip[f]) continue;
+    ++turned;
+    std::swap(mesh.triangles[f].y, mesh.triangles[f].z);
+    std::swap(mesh.face_uv[f][1], mesh.face_uv[f][2]);
+    mesh.face_normals[f] = -mesh.face_normals[f];
+  }
+  return turned;
+}
+
+}  // namespace
+
 TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const MeshOptions& options) {
   auto fail = [&](const std::string& why) { throw std::runtime_error(path + ": " + why); };
   const size_t n = in.positions.size(), m = in.triangles.size();
@@ -597,6 +680,24 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
   }
   TriangleMesh out;
   out.positions = std::move(in.positions);
+  {
+    struct Hash {
+      size_t operator()(const glm::dvec3& p) const {
+        uint64_t h = 0;
+        for (int k = 0; k < 3; ++k) {
+          uint64_t bits;
+          const double v = p[k] == 0 ? 0.0 : p[k];  // -0 and 0 alike
+          std::memcpy(&bits, &v, sizeof bits);
+          h = (h ^ bits) * 0x100000001b3ull;
+        }
+        return size_t(h ^ (h >> 29));
+      }
+    };
+    std::unordered_map<glm::dvec3, uint32_t, Hash> first;
+    first.reserve(n);
+    out.welded.resize(n);
+    for (size_t i = 0; i < n; ++i) out.welded[i] = first.emplace(out.positions[i], uint32_t(i)).first->second;
+  }
   out.colours = std::move(in.colours);
   if (out.colours.empty()) out.colours.assign(n, options.colour.value_or(glm::vec3(0.8f)));
   out.textures = std::move(in.textures);
@@ -653,7 +754,7 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     }
     out.area += 0.5 * twice_area;
     for (int k = 0; k < 3; ++k) {
-      int u = t[k], v = t[(k + 1) % 3];
+      const int u = int(out.welded[size_t(t[k])]), v = int(out.welded[size_t(t[(k + 1) % 3])]);
       edges.emplace_back(std::min(u, v), std::max(u, v));
     }
   }
@@ -680,6 +781,9 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     if (j - i >= 3) ++out.nonmanifold_edges;
     i = j;
   }
+  // Faces wound against their neighbours turned first: the winding number
+  // below, and shading, read the winding.
+  size_t turned = orient_consistently(out);
   // A surface with holes or non-manifold edges is drawn as a solid when the
   // winding number says its holes are small (OpenVDB's flood fill does not
   // leak through them), else two-sided (mesh_source.cpp).
@@ -692,8 +796,8 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
   // negative volume: libcgal-demo's tetrahedron, beam and ellipsoid) has
   // its faces turned: their normals, which shading reads, pointed inwards
   // and drew it dark. (Inside and outside come from the distance, not the
-  // winding, so only the normals were wrong.)
-  bool turned = false;
+  // winding, so only the normals were wrong.) orient_consistently turned
+  // closed pieces already; this covers a solid with small holes.
   if (!out.two_sided) {
     const glm::dvec3 centre = 0.5 * (lo + hi);
     double volume = 0;
@@ -703,7 +807,7 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
       volume += glm::dot(a, glm::cross(b, c));
     }
     if (volume < 0) {
-      turned = true;
+      turned = out.triangles.size() - turned;
       for (size_t f = 0; f < out.triangles.size(); ++f) {
         std::swap(out.triangles[f].y, out.triangles[f].z);
         std::swap(out.face_uv[f][1], out.face_uv[f][2]);
@@ -724,7 +828,11 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
                        : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
         why;
   }
-  if (turned) decided += "; its faces were wound inside out (clockwise seen from outside): turned";
+  const std::string turned_text = turned == out.triangles.size()
+                                      ? "its faces were wound inside out (clockwise seen from outside): turned"
+                                      : std::to_string(turned) + " of its " + std::to_string(out.triangles.size()) +
+                                            " faces were wound against the others or inside out: turned";
+  if (turned) decided += "; " + turned_text;
   out.surface = decided;
   if (options.warning) {
     if (out.degenerate) {
@@ -733,7 +841,7 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     if (out.open_edges || out.nonmanifold_edges) {
       options.warning(path + ": " + decided);
     } else if (turned) {
-      options.warning(path + ": its faces are wound inside out (clockwise seen from outside): turned");
+      options.warning(path + ": " + turned_text);
     }
   }
   return out;

@@ -4,11 +4,10 @@
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <map>
 #include <mutex>
+#include <numeric>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
@@ -215,16 +214,15 @@ class MeshSource : public SurfaceSource {
 
   // Per triangle, bit i: the edge opposite corner i is open (no other
   // triangle has an edge between the same two points); bit 3 + i: corner i
-  // lies on an open edge. By position, not by vertex index: faces stored
-  // with vertices of their own (a box of six separate grids) still meet at
-  // their shared edges, which are creases, not rims.
+  // lies on an open edge. By position (TriangleMesh::welded), not by vertex
+  // index: faces stored with vertices of their own (a box of six separate
+  // grids) still meet at their shared edges, which are creases, not rims.
   void find_open_sides() {
-    std::map<std::array<double, 3>, uint32_t> ids;
-    std::vector<uint32_t> id(mesh_.positions.size());
-    for (size_t v = 0; v < id.size(); ++v) {
-      const glm::dvec3& p = mesh_.positions[v];
-      id[v] = ids.emplace(std::array<double, 3>{p.x, p.y, p.z}, uint32_t(ids.size())).first->second;
+    if (mesh_.welded.size() != mesh_.positions.size()) {  // not from make_triangle_mesh: by index
+      mesh_.welded.resize(mesh_.positions.size());
+      std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
     }
+    const std::vector<uint32_t>& id = mesh_.welded;
     auto key = [&](int a, int b) {
       const uint32_t i = id[size_t(a)], j = id[size_t(b)];
       return uint64_t(std::min(i, j)) << 32 | std::max(i, j);

@@ -117,6 +117,7 @@ void append(TriangleMesh& out, TriangleMesh part, const glm::dmat4& m, uint32_t 
   const int base = int(out.positions.size());
   const int textures = int(out.textures.size());
   for (auto& p : part.positions) out.positions.push_back(glm::dvec3(m * glm::dvec4(p, 1.0)));
+  for (uint32_t w : part.welded) out.welded.push_back(w + uint32_t(base));  // within the part only
   out.colours.insert(out.colours.end(), part.colours.begin(), part.colours.end());
   for (size_t f = 0; f < part.triangles.size(); ++f) {
     glm::ivec3 t = part.triangles[f] + glm::ivec3(base);

@@ -76,6 +76,11 @@ struct Texture {
 // same attributes.
 struct TriangleMesh {
   std::vector<glm::dvec3> positions;
+  // Per vertex, the first vertex at the same position: edges and their
+  // topology are by position (OpenMesh splits a vertex where the faces
+  // around it disagree in winding; faces may be stored with corners of
+  // their own).
+  std::vector<uint32_t> welded;
   std::vector<glm::vec3> colours;                 // per vertex, linear RGB (the constant colour without vertex colours)
   std::vector<glm::ivec3> triangles;              // triangles of non-zero area only
   std::vector<glm::vec3> face_normals;            // unit, from the winding (counter-clockwise = front)
