@@ -566,8 +566,8 @@ WindingShares winding_shares(const TriangleMesh& mesh) {
 namespace {
 
 // Turns the faces of `mesh` that are wound against their neighbours: across
-// every edge two triangles share (by vertex index; not across open or
-// non-manifold edges), the second follows the first, breadth first from
+// every edge two triangles share (by position, TriangleMesh::welded; not
+// across open or non-manifold edges), the second follows the first, breadth first from
 // the first face of each connected piece; then each closed piece whose
 // volume is negative (wound inside out) is turned whole. Returns the
 // number of faces turned. Shading reads the faces' normals: libcgal-demo's
@@ -579,11 +579,14 @@ size_t orient_consistently(TriangleMesh& mesh) {
     const uint32_t i = mesh.welded[size_t(a)], j = mesh.welded[size_t(b)];
     return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
   };
-  std::unordered_map<uint64_t, std::vector<uint32_t>> faces_of;
-  faces_of.reserve(3 * m / 2);
+  // (edge, face) for every edge of every face, sorted: a face's neighbours
+  // across an edge by binary search (a hash map of vectors cost 2 s and
+  // 120 MB more on a million triangles).
+  std::vector<std::pair<uint64_t, uint32_t>> edge_faces;
+  edge_faces.reserve(3 * m);
   for (size_t f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k)
-      faces_of[key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3])].push_back(uint32_t(f));
+    for (int k = 0; k < 3; ++k) edge_faces.emplace_back(key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3]), f);
+  std::sort(edge_faces.begin(), edge_faces.end());
   // Whether face f, as stored, runs from a to b (by position) along one of its edges.
   auto runs = [&](size_t f, int a, int b) {
     const glm::ivec3& t = mesh.triangles[f];
@@ -607,12 +610,14 @@ size_t orient_consistently(TriangleMesh& mesh) {
       const glm::ivec3& t = mesh.triangles[f];
       for (int k = 0; k < 3; ++k) {
         const int a = t[k], b = t[(k + 1) % 3];
-        const std::vector<uint32_t>& shared = faces_of[key(a, b)];
-        if (shared.size() != 2) {
-          closed = false;
+        const uint64_t edge = key(a, b);
+        const auto shared = std::lower_bound(edge_faces.begin(), edge_faces.end(), std::make_pair(edge, 0u));
+        if (shared + 1 >= edge_faces.end() || (shared + 1)->first != edge ||
+            (shared + 2 < edge_faces.end() && (shared + 2)->first == edge)) {
+          closed = false;  // an open or non-manifold edge
           continue;
         }
-        const uint32_t g = shared[0] == f ? shared[1] : shared[0];
+        const uint32_t g = shared->second == f ? (shared + 1)->second : shared->second;
         if (flip[g] >= 0) continue;
         // f runs a -> b as it will be (after its own turn); g must run b -> a.
         const bool f_ab = flip[f] == 0;
