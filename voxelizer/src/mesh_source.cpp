@@ -189,18 +189,21 @@ class MeshSource : public SurfaceSource {
   // (1.5 voxels or more from the surface, where the side is clear); where
   // more than 5% disagree, the mesh is drawn two-sided instead.
   void check_flood_fill() {
-    std::vector<std::pair<openvdb::Coord, bool>> points;
-    for (auto v = distance_->cbeginValueOn(); v; ++v) {
-      if (std::abs(*v) >= 1.5f && std::abs(*v) < 0.9f * float(kBandVoxels)) points.emplace_back(v.getCoord(), *v < 0);
-    }
-    if (points.empty()) return;
+    // Two passes over the band: how many points qualify, then every
+    // stride-th of them (a list of them all would take 16 bytes a point).
+    auto qualifies = [](float v) { return std::abs(v) >= 1.5f && std::abs(v) < 0.9f * float(kBandVoxels); };
+    size_t count = 0;
+    for (auto v = distance_->cbeginValueOn(); v; ++v) count += qualifies(*v);
+    if (count == 0) return;
     const WindingNumber winding(mesh_.positions, mesh_.triangles);
-    const size_t stride = std::max<size_t>(1, points.size() / 2000);
-    size_t checked = 0, disagree = 0;
-    for (size_t i = 0; i < points.size(); i += stride, ++checked) {
-      const openvdb::Coord& c = points[i].first;
+    const size_t stride = std::max<size_t>(1, count / 2000);
+    size_t seen = 0, checked = 0, disagree = 0;
+    for (auto v = distance_->cbeginValueOn(); v; ++v) {
+      if (!qualifies(*v) || seen++ % stride != 0) continue;
+      const openvdb::Coord c = v.getCoord();
       const bool inside = winding(lattice_.position({c.x(), c.y(), c.z()})) > 0.5;
-      disagree += inside != points[i].second;
+      disagree += inside != (*v < 0);
+      ++checked;
     }
     const double share = double(disagree) / double(checked);
     if (share <= 0.05) return;
