@@ -2,6 +2,9 @@
 // svo_image_read_oiio, which svo_render links; see image_io.h).
 #include <OpenImageIO/imageio.h>
 
+#include <cctype>
+#include <filesystem>
+
 #include "image_codec.h"
 #include "svo/render/image_io.h"
 
@@ -9,9 +12,15 @@ namespace svo::render {
 
 Image read_image(const std::string& path, uint64_t max_pixels, const std::string& limit_option) {
   codec::screen_image_file(path);
-  // The reader of the file's extension only: OpenImageIO's open() would
-  // otherwise try every format it knows on a file its extension's rejects.
-  auto in = OIIO::ImageInput::create(path, false);
+  // The reader of the file's extension only, created from the extension
+  // alone: given the file's name, OpenImageIO 2.4 asks every format it knows
+  // whether the file is theirs when the extension's reader rejects it, and
+  // the DICOM reader (dcmtk) then frees with the wrong operator (an
+  // AddressSanitizer report on a mutated PNG seed, Fuzz.MutatedSeeds*).
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));  // "PNG" is not a format name
+  auto in = extension.size() > 1 ? OIIO::ImageInput::create(extension.substr(1)) : nullptr;
+  if (!in && extension.size() <= 1) throw ImageError(path + ": cannot read: no extension to tell its format");
   if (!in) throw ImageError(path + ": cannot read: " + codec::one_line(OIIO::geterror()));
   OIIO::ImageSpec spec;
   if (!in->open(path, spec)) throw ImageError(path + ": cannot read: " + codec::one_line(in->geterror()));
