@@ -146,8 +146,10 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     const std::string surface_read = source->surface();
     octree::Octree tree = voxelizer::voxelize(*source, options, &report);
     // The voxelizer may revise what was decided (a flood fill that leaked).
-    if (source->surface() != surface_read)
-      bar.finish(), std::cerr << "svo: warning: " << what << ": " << source->surface() << "\n";
+    if (source->surface() != surface_read) {
+      bar.finish();
+      std::cerr << "svo: warning: " << what << ": " << source->surface() << "\n";
+    }
     if (!material.empty()) tree.materials = {material};
     // Where it came from and what was decided about the surface (svo info).
     nlohmann::json provenance{{"input", what}, {"resolution", a->resolution}, {"brick_size", a->brick}};

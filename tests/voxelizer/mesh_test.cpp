@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <glm/geometric.hpp>
 
 #include "lattice_points.h"
@@ -35,11 +36,16 @@ std::string write_file(const std::string& name, const std::string& text) {
   return p.string();
 }
 
-std::string cube_off() {
+// The cube as OFF text; the triangles for which `against(f)` holds wound
+// the other way (clockwise seen from outside).
+std::string cube_off(const std::function<bool(int)>& against = [](int) { return false; }) {
   std::string s = "OFF\n8 12 0\n";
   for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (auto& t : kTriangles)
-    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  for (int f = 0; f < 12; ++f) {
+    const int* t = kTriangles[f];
+    const int b = against(f) ? t[2] : t[1], c = against(f) ? t[1] : t[2];
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+  }
   return s;
 }
 
@@ -118,10 +124,7 @@ TEST(Mesh, EveryFormatGivesTheSameCube) {
 // tetrahedron, beam and ellipsoid are): the same distances and outward
 // normals. Its normals pointed inwards, and it rendered dark.
 TEST(Mesh, InsideOutFacesGiveOutwardNormals) {
-  std::string s = "OFF\n8 12 0\n";
-  for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (auto& t : kTriangles)
-    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[2]) + " " + std::to_string(t[1]) + "\n";
+  const std::string s = cube_off([](int) { return true; });
   auto mesh = voxelizer::load_mesh(write_file("inside_out.off", s));
   voxelizer::VoxelizeOptions options;
   options.resolution = 64;
@@ -134,14 +137,7 @@ TEST(Mesh, InsideOutFacesGiveOutwardNormals) {
 // to agree, so the distances and outward normals are the cube's, and the
 // warning counts them.
 TEST(Mesh, FacesWoundAgainstTheirNeighboursAreTurned) {
-  std::string s = "OFF\n8 12 0\n";
-  for (auto& c : kCorners) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (int f = 0; f < 12; ++f) {
-    const int* t = kTriangles[f];
-    const bool against = f % 5 == 1 || f == 4;  // faces 1, 4, 6, 11
-    s += "3 " + std::to_string(t[0]) + " " + std::to_string(against ? t[2] : t[1]) + " " +
-         std::to_string(against ? t[1] : t[2]) + "\n";
-  }
+  const std::string s = cube_off([](int f) { return f % 5 == 1 || f == 4; });  // faces 1, 4, 6, 11
   std::string warning;
   voxelizer::MeshOptions options;
   options.warning = [&](const std::string& w) { warning += w + "\n"; };
