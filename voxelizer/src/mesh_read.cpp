@@ -575,10 +575,7 @@ namespace {
 // triangles dark.
 size_t orient_consistently(TriangleMesh& mesh) {
   const size_t m = mesh.triangles.size();
-  auto key = [&](int a, int b) {
-    const uint32_t i = mesh.welded[size_t(a)], j = mesh.welded[size_t(b)];
-    return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
-  };
+  auto key = [&](int a, int b) { return mesh.edge_key(a, b); };
   // (edge, face) for every edge of every face, sorted: a face's neighbours
   // across an edge by binary search (a hash map of vectors cost 2 s and
   // 120 MB more on a million triangles).

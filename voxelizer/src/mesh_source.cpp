@@ -226,10 +226,7 @@ class MeshSource : public SurfaceSource {
       std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
     }
     const std::vector<uint32_t>& id = mesh_.welded;
-    auto key = [&](int a, int b) {
-      const uint32_t i = id[size_t(a)], j = id[size_t(b)];
-      return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
-    };
+    auto key = [&](int a, int b) { return mesh_.edge_key(a, b); };
     std::unordered_map<uint64_t, uint32_t> uses;
     for (const glm::ivec3& t : mesh_.triangles)
       for (int i = 0; i < 3; ++i) ++uses[key(t[(i + 1) % 3], t[(i + 2) % 3])];

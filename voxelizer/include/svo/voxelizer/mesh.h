@@ -3,7 +3,9 @@
 // closest-polygon index grid gives attributes at the closest surface point.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -81,6 +83,12 @@ struct TriangleMesh {
   // around it disagree in winding; faces may be stored with corners of
   // their own).
   std::vector<uint32_t> welded;
+  // The edge between vertices a and b, by position (welded): the same key
+  // for either direction.
+  uint64_t edge_key(int a, int b) const {
+    const uint32_t i = welded[size_t(a)], j = welded[size_t(b)];
+    return uint64_t(std::min(i, j)) << 32 | std::max(i, j);
+  }
   std::vector<glm::vec3> colours;                 // per vertex, linear RGB (the constant colour without vertex colours)
   std::vector<glm::ivec3> triangles;              // triangles of non-zero area only
   std::vector<glm::vec3> face_normals;            // unit, from the winding (counter-clockwise = front)
