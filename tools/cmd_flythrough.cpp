@@ -99,16 +99,9 @@ bool is_frame_name(const std::string& name) {
   return std::all_of(name.begin() + 6, name.end() - 4, [](unsigned char c) { return std::isdigit(c); });
 }
 
-// Moves the finished run's files from `stage` into `dir`, the earlier run's
-// files that this run did not write (extra frames, a strip) removed first,
-// so that DIR holds one run's set.
-void publish(const fs::path& stage, const fs::path& dir) {
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    const bool ours = is_frame_name(name) || name == "strip.png" || name == "frames.csv" || name == "path.json";
-    if (ours && !fs::exists(stage / name)) fs::remove(e.path());
-  }
-  for (const auto& e : fs::directory_iterator(stage)) fs::rename(e.path(), dir / e.path().filename());
+// The names of a run's set in DIR: frames, the strip, the CSV and the path.
+bool ours(const std::string& name) {
+  return is_frame_name(name) || name == "strip.png" || name == "frames.csv" || name == "path.json";
 }
 
 bool have_ffmpeg() { return std::system("command -v ffmpeg > /dev/null 2>&1") == 0; }
@@ -187,7 +180,10 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
     // The run's files go to a staging directory inside DIR and replace the
     // earlier run's set together at the end: a run that is killed or fails
     // leaves the earlier frames, CSV and path as they were (its staging
-    // directory is removed by the next run).
+    // directory is removed by the next run). A run killed while it moved its
+    // set into DIR left the set's manifest in its staging directory: this
+    // run completes that publish first.
+    files::finish_interrupted_sets(dir, ".flythrough-tmp-", ours);
     files::StagingDirectory staging(dir, ".flythrough-tmp-");
     const fs::path& stage = staging.path();
 
@@ -296,7 +292,7 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       if (status != 0) throw std::runtime_error("--video " + a->video + ": ffmpeg failed: " + command);
       video.commit();
     }
-    publish(stage, dir);
+    files::publish_set(stage, dir, ours);
 
     double lo = 0, hi = 0, total_ms = 0;
     bool any = false;

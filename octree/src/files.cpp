@@ -15,8 +15,11 @@
 #include <cstring>
 #include <fstream>
 #include <mutex>
+#include <set>
+#include <sstream>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 namespace svo::files {
 
@@ -400,6 +403,85 @@ void write_file(const std::string& path, const void* data, size_t size) {
   OutputFile out(path);
   out.write(data, size);
   out.commit();
+}
+
+// --- A run's set of outputs, published together.
+namespace {
+
+constexpr const char* kManifest = ".set";
+
+// Moves the set named in `stage`'s manifest into `dir`; see publish_set.
+void move_set(const fs::path& stage, const fs::path& dir, const std::function<bool(const std::string&)>& ours) {
+  const std::string manifest = read_bounded((stage / kManifest).string(), 1u << 24, "a set's manifest");
+  std::set<std::string> names;
+  std::istringstream lines(manifest);
+  for (std::string name; std::getline(lines, name);)
+    if (!name.empty()) names.insert(name);
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (ours(name) && !names.count(name) && e.is_regular_file()) fs::remove(e.path());
+  }
+  // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_PUBLISH
+  // set, stop after the first move, announced on stderr, for up to 60 s, so
+  // that a test can kill the process half-way through a publish.
+  bool first = true;
+  for (const std::string& name : names) {
+    const fs::path from = stage / name;
+    if (!fs::exists(fs::symlink_status(from))) continue;  // moved before the interruption
+    fs::rename(from, dir / name);
+    if (std::exchange(first, false) && std::getenv("SVO_TEST_STALL_PUBLISH")) {
+      std::fprintf(stderr, "svo: test hook: stalled publishing %s\n", stage.c_str());
+      std::fflush(stderr);
+      for (int i = 0; i < 600; ++i) ::usleep(100000);
+    }
+  }
+  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+  fs::remove(stage / kManifest);
+}
+
+}  // namespace
+
+void publish_set(const fs::path& stage, const fs::path& dir, const std::function<bool(const std::string&)>& ours) {
+  std::string manifest;
+  for (const auto& e : fs::directory_iterator(stage)) {
+    const std::string name = e.path().filename().string();
+    if (name == kManifest || !e.is_regular_file()) continue;
+    if (!ours(name)) throw FileError((stage / name).string() + ": not one of the run's outputs; not published");
+    manifest += name + "\n";
+  }
+  write_file((stage / kManifest).string(), manifest);
+  // The moves with the cleanup signals held: the handler would otherwise
+  // remove the staging directory's files, half of a set already moved.
+  sigset_t held, before;
+  sigemptyset(&held);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, s);
+  pthread_sigmask(SIG_BLOCK, &held, &before);
+  try {
+    move_set(stage, dir, ours);
+  } catch (...) {
+    pthread_sigmask(SIG_SETMASK, &before, nullptr);
+    throw;
+  }
+  pthread_sigmask(SIG_SETMASK, &before, nullptr);
+}
+
+size_t finish_interrupted_sets(const fs::path& dir, const std::string& prefix,
+                               const std::function<bool(const std::string&)>& ours) {
+  std::vector<fs::path> sets;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (stale(name, prefix) && fs::is_regular_file(it->path() / kManifest)) sets.push_back(it->path());
+  }
+  // Each run completes an interrupted set before it stages its own, so there
+  // is one at most, unless runs into the same DIR overlapped.
+  std::sort(sets.begin(), sets.end());
+  for (const fs::path& stage : sets) move_set(stage, dir, ours);
+  return sets.size();
 }
 
 StagingDirectory::StagingDirectory(const fs::path& dir, const std::string& prefix) {

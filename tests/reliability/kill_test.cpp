@@ -10,6 +10,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <fstream>
 #include <random>
 #include <string>
 #include <thread>
@@ -319,6 +320,51 @@ TEST(Interrupt, StaleStagingDirectoryOfAKilledRunIsRemovedByTheNext) {
   ASSERT_EQ(entries(out, ".flythrough-tmp-").size(), 1u) << "SIGKILL leaves it";
   ASSERT_EQ(run(flythrough(svo, out.string(), "2"), log), 0) << log;
   EXPECT_TRUE(entries(out, ".flythrough-tmp-").empty());
+}
+
+// A run killed (SIGKILL) half-way through moving its finished set into DIR
+// leaves DIR mixed: some files of the new set, the rest of the earlier one.
+// Its staging directory holds the set's manifest, and the next run into DIR
+// completes that publish before anything else, even a run that then fails:
+// DIR then holds exactly the killed run's set. Before: the next run removed
+// the staging directory and DIR stayed mixed.
+TEST(Interrupt, PublishKilledHalfWayIsCompletedByTheNextRun) {
+  svo::testing::TempDir dir;
+  const std::string svo = dir / "in.svo";
+  std::string log;
+  ASSERT_EQ(run(voxelize("bumpy-sphere", svo), log), 0) << log;
+  const fs::path out = dir.path() / "fly", clean = dir.path() / "clean";
+  ASSERT_EQ(run(flythrough(svo, out.string(), "4"), log), 0) << log;
+  const auto earlier = entries(out, "");
+  // The set a finished 2-frame run writes, to compare with.
+  ASSERT_EQ(run(flythrough(svo, clean.string(), "2"), log), 0) << log;
+  const auto expected = entries(clean, "");
+  ASSERT_NE(expected, earlier);
+
+  Child c = start(flythrough(svo, out.string(), "2"), {.env = {{"SVO_TEST_STALL_PUBLISH", "1"}}});
+  std::string seen;
+  const bool stalled = wait_for(c, "stalled publishing", seen, 120);
+  ::kill(c.pid, SIGKILL);
+  EXPECT_EQ(finished(c, seen), 128 + SIGKILL);
+  ASSERT_TRUE(stalled) << seen;
+  ASSERT_EQ(entries(out, ".flythrough-tmp-").size(), 1u);
+  // Mixed: the earlier run's extra frames are gone, yet not every file of
+  // the new set has arrived (one moved; the others are the earlier run's,
+  // rendered along a 4-frame path).
+  size_t differ = 0;
+  for (const auto& name : expected) differ += bytes_of(out / name) != bytes_of(clean / name);
+  EXPECT_GT(differ, 0u);
+
+  // The next run fails on its input, after it completed the publish.
+  const std::string bad = dir / "bad.svo";
+  std::ofstream(bad) << "not an octree";
+  EXPECT_EQ(run(flythrough(bad, out.string(), "2"), log), 1) << log;
+  EXPECT_EQ(entries(out, ""), expected);
+  for (const auto& name : expected) {
+    if (name != "frames.csv") {  // its times differ from run to run
+      EXPECT_TRUE(bytes_of(out / name) == bytes_of(clean / name)) << name << " is not the killed run's";
+    }
+  }
 }
 
 // --- The progress bar: forced on, a rate and the time left; not a terminal, nothing.

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -126,6 +127,24 @@ class StagingDirectory {
   std::filesystem::path path_;
   size_t slot_ = ~size_t(0);
 };
+
+// Publishes a run's set of outputs: the plain files of `stage` (a
+// StagingDirectory inside `dir`) replace, as one set, the files of `dir` that
+// `ours` claims by name; those of `dir` that the set lacks are removed. A
+// manifest of the set (`stage`/.set, made durable) is written first and the
+// moves are idempotent, so a publish stopped half-way by SIGKILL or a power
+// loss rolls forward: finish_interrupted_sets, called by the next run before
+// it makes its staging directory, completes it. SIGINT, SIGTERM and SIGHUP
+// are held for the moves (they take milliseconds) and delivered after.
+void publish_set(const std::filesystem::path& stage, const std::filesystem::path& dir,
+                 const std::function<bool(const std::string&)>& ours);
+
+// Completes the publish of every staging directory of `dir` named `prefix` +
+// "<pid>-..." whose process no longer runs and that holds a manifest (a run
+// killed while publishing). Directories without one (killed before) are left
+// to remove_stale_temporaries. Returns how many sets it completed.
+size_t finish_interrupted_sets(const std::filesystem::path& dir, const std::string& prefix,
+                               const std::function<bool(const std::string&)>& ours);
 
 // Installs, once per process, handlers for SIGINT, SIGTERM and SIGHUP that
 // remove every live OutputFile temporary and StagingDirectory (with
