@@ -159,6 +159,8 @@ size_t remove_stale_temporaries(const fs::path& dir, const std::string& prefix) 
 namespace {
 
 constexpr size_t kSlots = 256;
+// The manifest of a set being published, in its staging directory.
+constexpr const char* kManifest = ".set";
 constexpr size_t kPathBytes = 4096;
 
 struct Slot {
@@ -200,8 +202,17 @@ void say(const char* text) {
 
 // Removes the plain entries of `dir` (getdents64 and unlinkat are system
 // calls, safe in a handler; opendir/readdir are not), then the directory.
+// A staging directory that holds a set's manifest is being published: its
+// files are half moved, and the next run completes the move from it
+// (publish_set), so it stays. That check is what protects a publish from a
+// signal another thread takes (publish_set holds the signals in its own).
 void remove_directory_now(const char* dir) {
   int fd = ::open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
+  struct stat manifest;
+  if (fd >= 0 && ::fstatat(fd, kManifest, &manifest, AT_SYMLINK_NOFOLLOW) == 0) {
+    ::close(fd);
+    return;
+  }
   if (fd >= 0) {
     struct Entry {
       uint64_t ino;
@@ -408,8 +419,6 @@ void write_file(const std::string& path, const void* data, size_t size) {
 // --- A run's set of outputs, published together.
 namespace {
 
-constexpr const char* kManifest = ".set";
-
 // Moves the set named in `stage`'s manifest into `dir`; see publish_set.
 void move_set(const fs::path& stage, const fs::path& dir, const std::function<bool(const std::string&)>& ours) {
   const std::string manifest = read_bounded((stage / kManifest).string(), 1u << 24, "a set's manifest");
@@ -422,17 +431,19 @@ void move_set(const fs::path& stage, const fs::path& dir, const std::function<bo
     if (ours(name) && !names.count(name) && e.is_regular_file()) fs::remove(e.path());
   }
   // Test hook (tests/reliability/kill_test.cpp): with SVO_TEST_STALL_PUBLISH
-  // set, stop after the first move, announced on stderr, for up to 60 s, so
-  // that a test can kill the process half-way through a publish.
+  // set to N, stop after the first move, announced on stderr, for N seconds
+  // (at most 60), so that a test can kill the process half-way through.
+  const char* stall = std::getenv("SVO_TEST_STALL_PUBLISH");
   bool first = true;
   for (const std::string& name : names) {
     const fs::path from = stage / name;
     if (!fs::exists(fs::symlink_status(from))) continue;  // moved before the interruption
     fs::rename(from, dir / name);
-    if (std::exchange(first, false) && std::getenv("SVO_TEST_STALL_PUBLISH")) {
+    if (std::exchange(first, false) && stall) {
       std::fprintf(stderr, "svo: test hook: stalled publishing %s\n", stage.c_str());
       std::fflush(stderr);
-      for (int i = 0; i < 600; ++i) ::usleep(100000);
+      const int tenths = 10 * std::clamp(std::atoi(stall), 0, 60);
+      for (int i = 0; i < tenths; ++i) ::usleep(100000);
     }
   }
   int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -501,7 +512,8 @@ StagingDirectory::StagingDirectory(const fs::path& dir, const std::string& prefi
 
 StagingDirectory::~StagingDirectory() {
   std::error_code ignored;
-  if (!path_.empty()) fs::remove_all(path_, ignored);
+  // A publish that failed half-way keeps its manifest: the next run retries it.
+  if (!path_.empty() && !fs::exists(path_ / kManifest, ignored)) fs::remove_all(path_, ignored);
   unregister_temporary(slot_);
 }
 

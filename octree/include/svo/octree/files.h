@@ -135,7 +135,10 @@ class StagingDirectory {
 // moves are idempotent, so a publish stopped half-way by SIGKILL or a power
 // loss rolls forward: finish_interrupted_sets, called by the next run before
 // it makes its staging directory, completes it. SIGINT, SIGTERM and SIGHUP
-// are held for the moves (they take milliseconds) and delivered after.
+// are held in this thread for the moves (they take milliseconds); taken by
+// another thread, the cleanup handler leaves a staging directory holding a
+// manifest, as does ~StagingDirectory after a publish that threw, and the
+// next run completes the move.
 void publish_set(const std::filesystem::path& stage, const std::filesystem::path& dir,
                  const std::function<bool(const std::string&)>& ours);
 
