@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Side-by-side PNG montage without dependencies: scripts/montage.py OUT.png SCALE IN.png...
-Each input (8-bit RGB or RGBA, non-interlaced) is scaled up by SCALE (nearest) and placed left to right."""
+"""Side-by-side PNG montage without dependencies: scripts/montage.py [--crop X,Y,W,H] OUT.png SCALE IN.png...
+Each input (8-bit RGB or RGBA, non-interlaced), or its W x H region from pixel (X, Y) with --crop,
+is scaled up by SCALE (nearest) and placed left to right."""
 import struct
 import sys
 import zlib
@@ -51,10 +52,29 @@ def write_png(path, w, h, rows):
                 chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
+def crop(image, x0, y0, w, h):
+    iw, ih, ch, rows = image
+    if x0 < 0 or y0 < 0 or w <= 0 or h <= 0 or x0 + w > iw or y0 + h > ih:
+        sys.exit(f"--crop {x0},{y0},{w},{h} is not inside the {iw}x{ih} image")
+    return w, h, ch, [row[x0 * ch:(x0 + w) * ch] for row in rows[y0:y0 + h]]
+
+
 def main():
-    if len(sys.argv) < 4:
+    args = sys.argv[1:]
+    region = None
+    if args and args[0].startswith("--crop"):
+        spec = args[0].partition("=")[2] or (args[1] if len(args) > 1 else "")
+        args = args[1:] if "=" in args[0] else args[2:]
+        try:
+            region = [int(v) for v in spec.split(",")]
+            assert len(region) == 4
+        except (ValueError, AssertionError):
+            sys.exit(f"--crop takes X,Y,W,H in pixels, not '{spec}'")
+    if len(args) < 3:
         sys.exit(__doc__)
-    out, scale, images = sys.argv[1], int(sys.argv[2]), [read_png(p) for p in sys.argv[3:]]
+    out, scale, images = args[0], int(args[1]), [read_png(p) for p in args[2:]]
+    if region:
+        images = [crop(im, *region) for im in images]
     width, height = sum(im[0] for im in images) * scale, max(im[1] for im in images) * scale
     rows = []
     for y in range(height):
