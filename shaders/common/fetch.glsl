@@ -235,7 +235,19 @@ struct SvoShadingSample {
   SvoVoxel v;
   mat3 dn;  // column a: the normal's change along world axis a, per scene unit; zero unless `jacobian`
 };
-SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian) {
+// With `toward` (unit, towards the eye; zero: off), the shading fields
+// (normal, slope covariance, colours) leave out the corners whose normal
+// faces clearly away from the eye, by a weight from 1 at n . toward = -0.1
+// to 0 at -0.5, and are renormalised; the distance and height are not.
+// Those corners hold the far face of a wall about a voxel thick (both faces
+// on the lattice, no point inside): summed with the near face's, the normal
+// shrank to 0.35-0.42 of its length and tilted, a lattice of dots over the
+// face (libcgal-demo's boeing, docs/RESULTS.md "Walls one voxel thick").
+SVO_FN float svo_facing_weight(vec3 n, vec3 toward) {
+  return clamp((dot(n, toward) + 0.5f) * 2.5f, 0.0f, 1.0f);
+}
+
+SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian, vec3 toward) {
   SvoCorners c = svo_corners(cell, p);
   float inv_voxel = float(params.tree.x) / cell.size;
   bool distance = (parts & SVO_PART_DISTANCE) != 0u;
@@ -250,6 +262,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   r.v.abar = vec3(0.0f);
   r.v.a_s = vec3(0.0f);
   r.dn = mat3(0.0f);
+  float kept = 0.0f;  // the shading fields' weight
   // Each field is the sum of its corners' terms in the order of k (the
   // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
@@ -268,6 +281,9 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
     if (!normal) continue;
     vec3 n = svo_fetch_normal(cell.brick, s);
+    float facing = svo_facing_weight(n, toward);
+    wk *= facing;
+    kept += wk;
     r.v.n = first ? wk * n : r.v.n + wk * n;
     if (shading) {
       vec3 cov = svo_fetch_cov(cell.brick, s);
@@ -279,11 +295,22 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
     if (jacobian) {
       vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
-      vec3 grad = inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
+      vec3 grad = facing * inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
       r.dn[0] += grad.x * n;
       r.dn[1] += grad.y * n;
       r.dn[2] += grad.z * n;
     }
+  }
+  // Renormalised over the corners kept; all of them facing away: as they are.
+  if (normal && kept > 0.0f && kept < 0.999999f) {
+    float inv = 1.0f / kept;
+    r.v.n *= inv;
+    r.v.cov *= inv;
+    r.v.abar *= inv;
+    r.v.a_s *= inv;
+    r.dn[0] *= inv;
+    r.dn[1] *= inv;
+    r.dn[2] *= inv;
   }
   if (params.encodings.x != SVO_ENC_F32) {
     float voxel = cell.size / float(params.tree.x);

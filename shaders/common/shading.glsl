@@ -137,9 +137,10 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     // The attributes and, for the footprint's spread below, the normal's
     // derivatives, from one fetch of each level's corners.
     bool spread = footprinted && params.material.w > 0.0f;
-    SvoShadingSample sampled = svo_sample_shading(m.lo_cell, m.p, parts, spread);
+    vec3 toward = filtered ? view : vec3(0.0f);
+    SvoShadingSample sampled = svo_sample_shading(m.lo_cell, m.p, parts, spread, toward);
     if (m.blend > 0.0f) {
-      sampled = svo_shading_sample_blend(sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread), m.blend);
+      sampled = svo_shading_sample_blend(sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward), m.blend);
     }
     SvoVoxel a = sampled.v;
     // A cone's elements see different parts of a wide footprint: along a
