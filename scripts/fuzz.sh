@@ -11,7 +11,9 @@
 # of each target lives in FUZZ_DIR/fuzz/<target>/corpus (seeded by
 # svo_fuzz_seeds, kept between runs); crashing inputs go to
 # FUZZ_DIR/fuzz/<target>/artifacts/, the full log to .../log.txt. Exit 1 if
-# any target found a crash, a leak, a timeout (10 s) or an out-of-memory (3 GiB).
+# any target found a crash, a leak, a timeout (FUZZ_TIMEOUT seconds, default 10;
+# raise it on a machine loaded by other work, where an input that runs in
+# 0.2 s alone can take longer) or an out-of-memory (3 GiB).
 # A finding becomes a regression test: tests/fuzz/regressions/<target>/.
 # FUZZ_SKIP_BUILD=1 skips setup and build (for runs in parallel over a
 # tree built already: FUZZ_SKIP_BUILD=1 scripts/fuzz.sh 1800 merl & ...).
@@ -54,7 +56,7 @@ for t in "${TARGETS[@]}"; do
   if [ "$t" = vdb ]; then asan_extra=":allocator_may_return_null=1" fuzz_extra=(-malloc_limit_mb=1048576); fi
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=1$asan_extra" LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp" \
     UBSAN_OPTIONS=print_stacktrace=1 \
-    "$FUZZ_DIR/tests/fuzz/svo_fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=3072 \
+    "$FUZZ_DIR/tests/fuzz/svo_fuzz_$t" -max_total_time="$SECONDS_EACH" -timeout="${FUZZ_TIMEOUT:-10}" -rss_limit_mb=3072 \
     "${fuzz_extra[@]}" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" "$dir/corpus" > "$dir/log.txt" 2>&1 || rc=$?
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log.txt" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$dir/log.txt" | tail -1)
