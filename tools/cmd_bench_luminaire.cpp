@@ -256,7 +256,7 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
         const std::string name = render::luminaire_sampler_name(sampler);
         bar.update("part 1: " + name + " at equal error, " + tag, 0.0);
         EqualError eq = equal_error(
-            [&](uint32_t k) {
+            [&, sampler = sampler](uint32_t k) {  // a structured binding: captured by name (Clang 14)
               const render::Frame f = sample(sampler, k);
               return record("equal_error_" + tag, name, k, f, truth1);
             },
