@@ -115,7 +115,8 @@ void add_flythrough_command(CLI::App& app, int& exit_code) {
       "(--path deep-zoom, default) or a JSON path of keyframes (--path-file). Writes DIR/frame_NNNN.png, "
       "DIR/frames.csv (per frame: distance, view width, GPU ms, us per pixel and per covered pixel, levels), "
       "DIR/path.json (the path used, for --path-file) and DIR/strip.png. The run's files replace the earlier "
-      "run's together at the end (a killed or failed run leaves them as they were)");
+      "run's together at the end (a killed or failed run leaves them as they were; one killed while it moved "
+      "them is completed by the next run into DIR)");
   auto a = std::make_shared<FlythroughArgs>();
   cmd->add_option("FILE", a->input, "The .svo file to fly through")->required()->group("Input");
   cmd->add_option("-o,--out", a->out, "Output directory (created when missing)")->required()->group("Output");
