@@ -424,8 +424,10 @@ void move_set(const fs::path& stage, const fs::path& dir, const std::function<bo
   const std::string manifest = read_bounded((stage / kManifest).string(), 1u << 24, "a set's manifest");
   std::set<std::string> names;
   std::istringstream lines(manifest);
+  // Only names of the run's outputs, in DIR itself: a manifest planted in
+  // a staging directory cannot move a file out of DIR ("../x").
   for (std::string name; std::getline(lines, name);)
-    if (!name.empty()) names.insert(name);
+    if (!name.empty() && name.find('/') == std::string::npos && ours(name)) names.insert(name);
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
     if (ours(name) && !names.count(name) && e.is_regular_file()) fs::remove(e.path());

@@ -277,4 +277,28 @@ TEST(Output, FlythroughReplacesItsSetTogether) {
             (std::vector<std::string>{"frame_0000.png", "frame_0001.png", "frames.csv", "path.json"}));
 }
 
+// A dead run's staging directory holding a set's manifest is completed by
+// the next run into DIR (Interrupt.Publish*), but only for names of a
+// run's outputs inside DIR: a manifest planted there naming "../x" or
+// another file moves nothing out of DIR, and removes nothing of it.
+TEST(Output, PlantedManifestMovesNothingOutOfDir) {
+  TempDir dir;
+  Scene scene(dir);
+  const fs::path out = dir.path() / "fly";
+  fs::create_directories(out);
+  write_text((out / "keep.txt").string(), "not a frame");
+  const fs::path stage = out / (".flythrough-tmp-" + std::to_string(dead_pid()) + "-0");
+  fs::create_directories(stage);
+  write_text((stage / "frame_0007.png").string(), "planted");
+  write_text((stage / ".set").string(), "../keep.txt\nkeep.txt\n../../frame_0000.png\nframe_0007.png\n");
+  ASSERT_EQ(run_svo({"flythrough", scene.svo, "-o", out.string(), "--frames", "2", "--width", "32", "--height",
+                     "24", "--strip", "0"})
+                .status,
+            0);
+  EXPECT_TRUE(fs::exists(out / "keep.txt"));
+  EXPECT_FALSE(fs::exists(dir.path() / "keep.txt"));
+  EXPECT_EQ(entries(out, ""),
+            (std::vector<std::string>{"frame_0000.png", "frame_0001.png", "frames.csv", "keep.txt", "path.json"}));
+}
+
 }  // namespace
