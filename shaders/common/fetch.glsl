@@ -243,8 +243,14 @@ struct SvoShadingSample {
 // on the lattice, no point inside): summed with the near face's, the normal
 // shrank to 0.35-0.42 of its length and tilted, a lattice of dots over the
 // face (libcgal-demo's boeing, docs/RESULTS.md "Walls one voxel thick").
-SVO_FN float svo_facing_weight(vec3 n, vec3 toward) {
-  return clamp((dot(n, toward) + 0.5f) * 2.5f, 0.0f, 1.0f);
+// Only corners opposed to the most eye-facing corner's normal (n . front
+// below -0.3, fully from -0.7) are left out: those of a convex edge's far
+// face (at 90 degrees to the near one) stay, as they were; left out, the
+// rims of boxes' silhouettes came out bright (libcgal-demo's corner -1.6 dB).
+SVO_FN float svo_facing_weight(vec3 n, vec3 toward, vec3 front) {
+  float away = 1.0f - clamp((dot(n, toward) + 0.5f) * 2.5f, 0.0f, 1.0f);
+  float opposed = clamp((-dot(n, front) - 0.3f) * 2.5f, 0.0f, 1.0f);
+  return 1.0f - away * opposed;
 }
 
 SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian, vec3 toward) {
@@ -263,6 +269,20 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   r.v.a_s = vec3(0.0f);
   r.dn = mat3(0.0f);
   float kept = 0.0f;  // the shading fields' weight
+  // The corners' normals, and the one facing the eye most (svo_facing_weight).
+  vec3 ns[8];
+  vec3 front = vec3(0.0f);
+  if (normal) {
+    float best = -2.0f;
+    for (uint k = 0u; k < 8u; ++k) {
+      ns[k] = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+      float f = dot(ns[k], toward);
+      if (f > best) {
+        best = f;
+        front = ns[k];
+      }
+    }
+  }
   // Each field is the sum of its corners' terms in the order of k (the
   // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
@@ -280,8 +300,8 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
       r.v.sh2 = first ? wk * x : r.v.sh2 + wk * x;
     }
     if (!normal) continue;
-    vec3 n = svo_fetch_normal(cell.brick, s);
-    float facing = svo_facing_weight(n, toward);
+    vec3 n = ns[k];
+    float facing = svo_facing_weight(n, toward, front);
     wk *= facing;
     kept += wk;
     r.v.n = first ? wk * n : r.v.n + wk * n;

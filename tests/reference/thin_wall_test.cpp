@@ -5,7 +5,8 @@
 // dots over the near face (libcgal-demo's boeing, a CAD bracket whose top
 // wall is 0.2 mm at 0.2 mm a voxel; docs/RESULTS.md "Walls one voxel
 // thick"). Shading now leaves out the corners whose normal faces clearly
-// away from the eye (fetch.glsl, svo_facing_weight).
+// away from the eye and opposes the most eye-facing corner's (fetch.glsl,
+// svo_facing_weight).
 #include <gtest/gtest.h>
 
 #include <algorithm>
