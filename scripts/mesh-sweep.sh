@@ -6,7 +6,8 @@
 # row a mesh (OUT_DIR/sweep.csv): how svo drew its surface (svo info), PSNR,
 # relMSE, pixels off by more than 0.25 away from silhouettes, specks, the
 # 99.9th percentile and the largest error, or the first line of the error
-# of a step that failed. Images are kept for the worst (OUT_DIR/MESH-*.exr).
+# of a step that failed. Every mesh's frame, reference and camera are kept
+# (OUT_DIR/MESH-svo.exr, MESH-reference.exr, MESH-camera.json); its octree not.
 #   scripts/mesh-sweep.sh SVO OUT_DIR [MESH...]     MESH: a name without the extension
 set -euo pipefail
 [ $# -ge 2 ] || { sed -n '2,10p' "$0"; exit 1; }

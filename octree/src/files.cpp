@@ -467,19 +467,20 @@ void publish_set(const fs::path& stage, const fs::path& dir, const std::function
     manifest += name + "\n";
   }
   write_file((stage / kManifest).string(), manifest);
-  // The moves with the cleanup signals held: the handler would otherwise
-  // remove the staging directory's files, half of a set already moved.
-  sigset_t held, before;
-  sigemptyset(&held);
-  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, s);
-  pthread_sigmask(SIG_BLOCK, &held, &before);
-  try {
-    move_set(stage, dir, ours);
-  } catch (...) {
-    pthread_sigmask(SIG_SETMASK, &before, nullptr);
-    throw;
-  }
-  pthread_sigmask(SIG_SETMASK, &before, nullptr);
+  // The moves with the cleanup signals held in this thread (until the end
+  // of the scope, a throw included): the handler would otherwise remove the
+  // staging directory's files, half of a set already moved.
+  struct HeldSignals {
+    sigset_t before;
+    HeldSignals() {
+      sigset_t held;
+      sigemptyset(&held);
+      for (int s : kSignals) sigaddset(&held, s);
+      pthread_sigmask(SIG_BLOCK, &held, &before);
+    }
+    ~HeldSignals() { pthread_sigmask(SIG_SETMASK, &before, nullptr); }
+  } held;
+  move_set(stage, dir, ours);
 }
 
 size_t finish_interrupted_sets(const fs::path& dir, const std::string& prefix,

@@ -201,8 +201,8 @@ SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
 
 // The interpolated normal at p and, when `along` is set, its derivative
 // along the world direction q, from one fetch of the eight corners: the
-// normal of svo_sample_shading (same terms, same order) and its dn * q up
-// to rounding (here summed per corner).
+// normal of svo_sample_shading with `toward` zero (same terms, same order)
+// and its dn * q up to rounding (here summed per corner).
 struct SvoNormalAlong {
   vec3 n;
   vec3 dn;  // zero unless `along`

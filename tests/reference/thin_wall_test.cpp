@@ -1,12 +1,11 @@
 // A wall about one voxel thick: the lattice points inside it or on it near
 // its far face carry that face's normal, those just outside its near face
-// the opposite one. Their trilinear sum
-// shrank the normal to 0.35-0.42 of its length and tilted it, a lattice of
-// dots over the near face (libcgal-demo's boeing, a CAD bracket whose top
-// wall is 0.2 mm at 0.2 mm a voxel; docs/RESULTS.md "Walls one voxel
-// thick"). Shading now leaves out the corners whose normal faces clearly
-// away from the eye and opposes the most eye-facing corner's (fetch.glsl,
-// svo_facing_weight).
+// the opposite one. Their trilinear sum shrank the normal to 0.35-0.42 of
+// its length and tilted it, a lattice of dots over the near face
+// (libcgal-demo's boeing, a CAD bracket whose top wall is 0.2 mm at 0.2 mm
+// a voxel; docs/RESULTS.md "Walls one voxel thick"). Shading now leaves out
+// the corners whose normal faces clearly away from the eye and opposes the
+// most eye-facing corner's (fetch.glsl, svo_facing_weight).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,18 +25,6 @@
 namespace svo::reference {
 namespace {
 
-// The box [lo, hi], outward, n x n quads a face.
-void add_box(voxelizer::MeshArrays& m, glm::dvec3 lo, glm::dvec3 hi, int n) {
-  const glm::dvec3 d = hi - lo;
-  const glm::dvec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
-  test::add_grid(m, lo, x, z, n);                         // -y
-  test::add_grid(m, {lo.x, hi.y, lo.z}, z, x, n);         // +y
-  test::add_grid(m, lo, z, y, n);                         // -x
-  test::add_grid(m, {hi.x, lo.y, lo.z}, y, z, n);         // +x
-  test::add_grid(m, lo, y, x, n);                         // -z
-  test::add_grid(m, {lo.x, lo.y, hi.z}, x, y, n);         // +z
-}
-
 TEST(ThinWall, NearFaceShadesWithItsOwnNormal) {
   // At 64^3 the lattice's voxel is the largest extent / 56 (make_lattice):
   // 2 / 56 here, and the domain is centred on the bounds, which a small
@@ -49,8 +36,8 @@ TEST(ThinWall, NearFaceShadesWithItsOwnNormal) {
   constexpr int kResolution = 64;
   const double v = 2.0 / (kResolution - 8);
   voxelizer::MeshArrays m;
-  add_box(m, {-1, 14.9 * v, -1}, {1, 15.9 * v, 1}, 8);
-  add_box(m, {-0.2, -15.9 * v, -0.2}, {0.2, -10 * v, 0.2}, 2);
+  test::add_box(m, {-1, 14.9 * v, -1}, {1, 15.9 * v, 1}, 8);
+  test::add_box(m, {-0.2, -15.9 * v, -0.2}, {0.2, -10 * v, 0.2}, 2);
   voxelizer::TriangleMesh mesh = voxelizer::make_triangle_mesh("wall.obj", std::move(m));
   ASSERT_FALSE(mesh.two_sided) << mesh.surface;
   auto source = voxelizer::mesh_source(mesh);

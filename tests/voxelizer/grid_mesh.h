@@ -22,4 +22,16 @@ inline void add_grid(voxelizer::MeshArrays& m, glm::dvec3 origin, glm::dvec3 u, 
     }
 }
 
+// Appends the box [lo, hi] to `m`, n x n quads a face, outward.
+inline void add_box(voxelizer::MeshArrays& m, glm::dvec3 lo, glm::dvec3 hi, int n) {
+  const glm::dvec3 d = hi - lo;
+  const glm::dvec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
+  add_grid(m, lo, x, z, n);                  // -y
+  add_grid(m, {lo.x, hi.y, lo.z}, z, x, n);  // +y
+  add_grid(m, lo, z, y, n);                  // -x
+  add_grid(m, {hi.x, lo.y, lo.z}, y, z, n);  // +x
+  add_grid(m, lo, y, x, n);                  // -z
+  add_grid(m, {lo.x, lo.y, hi.z}, x, y, n);  // +z
+}
+
 }  // namespace svo::test
