@@ -21,8 +21,9 @@
 # GPU_FIGURES_SIZE^2 (default 1024) of the far, mid and close views of both
 # octrees, GPU_FIGURES_REPEATS (default 20) each on one renderer, the median
 # GPU time; then the shading passes on the sphere's mid view (forward with
-# the environment, the lobe-aware filter, bandwidth-adaptive, a light-field
-# luminaire). Writes OUT/gpu-figures.json (one object: machine, device,
+# the environment, the lobe-aware filter and its normal-aware baseline,
+# bandwidth-adaptive, a light-field luminaire sampled as Lu et al. and
+# uniformly). Writes OUT/gpu-figures.json (one object: machine, device,
 # selftest, agreement, frames, passes) and each step's output beside it.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -75,6 +76,9 @@ unxz() {
   if command -v xz > /dev/null; then xz -dc "$1"; else python3 -c 'import lzma, shutil, sys; shutil.copyfileobj(lzma.open(sys.argv[1]), sys.stdout.buffer)' "$1"; fi
 }
 unxz "$DIR/node.tar.xz" | tar -C "$WORK" -xf -
+# GPU_FIGURES_SYSTEM_VULKAN=1: the node's own Vulkan loader instead of the
+# bundle's (a driver may need the loader it was installed with).
+[ -n "${GPU_FIGURES_SYSTEM_VULKAN:-}" ] && rm -f "$WORK/node/lib/libvulkan.so.1"
 for f in sphere.svo bunny.svo small.svo headlight.lfl; do unxz "$DIR/$f.xz" > "$WORK/$f"; done
 cp "$DIR/env.exr" "$DIR/montage.py" "$WORK/"
 N="$WORK/node/svo-render"
@@ -106,6 +110,14 @@ step() {
 }
 
 step devices 60 "$N" devices
+# GPU_FIGURES_REQUIRE=discrete (the device call sets it): without such a
+# device in the list, the loader's account of why is kept and every later
+# step is skipped, so that no device time goes on native frames.
+if [ -n "${GPU_FIGURES_REQUIRE:-}" ] && ! grep -q "($GPU_FIGURES_REQUIRE," "$OUT_DIR/devices.out"; then
+  echo "no $GPU_FIGURES_REQUIRE Vulkan device listed: the loader's messages are in devices-debug.err" | tee -a "$log"
+  step devices-debug 30 env VK_LOADER_DEBUG=error,warn,info "$N" devices
+  DEADLINE=0
+fi
 step selftest 120 "$N" selftest "${dev[@]}" --json
 # Agreement: the same frame on the device and natively.
 step agree-device 60 "$N" render "$WORK/small.svo" -o "$OUT_DIR/agree-device.png" --view mid --width 256 --height 256 \
@@ -123,8 +135,12 @@ step pass-shadows 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-shadows.png" --shadow
 step pass-forward 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-forward.png" --env "$WORK/env.exr" --spp 16
 step pass-lobe-filter 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-lobe-filter.png" --env "$WORK/env.exr" --spp 4 \
   --shading forward --filter lobe --upsample 2
+step pass-normal-filter 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-normal-filter.png" --env "$WORK/env.exr" --spp 4 \
+  --shading forward --filter normal --upsample 2
 step pass-adaptive 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-adaptive.png" --env "$WORK/env.exr" --shading adaptive
 step pass-luminaire 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-luminaire.png" --luminaire "$WORK/headlight.lfl"
+step pass-luminaire-uniform 90 "$N" "${common[@]}" -o "$OUT_DIR/pass-luminaire-uniform.png" --luminaire "$WORK/headlight.lfl" \
+  --sampler uniform
 
 # One JSON of the figures.
 python3 - "$OUT_DIR" "$WORK" "$SIZE" "$REPEATS" << 'EOF'
@@ -170,7 +186,8 @@ try:
 except (OSError, SystemExit, ValueError) as e:
     result["agreement"] = {"error": str(e)}
 result["frames"] = {f"{s}-{v}": frame(f"frame-{s}-{v}") for s in ("sphere", "bunny") for v in ("far", "mid", "close")}
-result["passes"] = {p: frame(f"pass-{p}") for p in ("shadows", "forward", "lobe-filter", "adaptive", "luminaire")}
+result["passes"] = {p: frame(f"pass-{p}") for p in ("shadows", "forward", "lobe-filter", "normal-filter", "adaptive", "luminaire",
+                                                         "luminaire-uniform")}
 json.dump(result, open(os.path.join(out, "gpu-figures.json"), "w"), indent=1)
 print(json.dumps({k: {kk: vv.get("fps") for kk, vv in result[k].items()} for k in ("frames", "passes")}))
 print("agreement:", json.dumps(result["agreement"]))

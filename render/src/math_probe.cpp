@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 #include "common/shared_math.h"
 #include "math_probe.comp.spv.h"
@@ -70,6 +73,26 @@ std::vector<float> probe_cpu(std::span<const glm::vec4> inputs) {
   return out;
 }
 
+std::vector<float> probe_cpu_flushed(std::span<const glm::vec4> inputs) {
+#if defined(__SSE2__)
+  struct FlushScope {
+    unsigned saved = _mm_getcsr();
+    FlushScope() { _mm_setcsr(saved | 0x8040u); }  // FTZ (bit 15) and DAZ (bit 6)
+    ~FlushScope() { _mm_setcsr(saved); }
+  } scope;
+  // The inputs themselves as a flushing device reads them.
+  std::vector<glm::vec4> flushed(inputs.begin(), inputs.end());
+  for (glm::vec4& in : flushed) {
+    for (int c = 0; c < 4; ++c) {
+      if (std::fpclassify(in[c]) == FP_SUBNORMAL) in[c] = std::copysign(0.0f, in[c]);
+    }
+  }
+  return probe_cpu(flushed);
+#else
+  return probe_cpu(inputs);
+#endif
+}
+
 ProbeRun probe_gpu(vk::Context& context, std::span<const glm::vec4> inputs) {
   static_assert(sizeof(glm::vec4) == 16, "std430 vec4 layout");
   static_assert(math::SVO_PROBE_OUTPUTS * 4 == kProbeValues);
@@ -89,9 +112,20 @@ ProbeRun probe_gpu(vk::Context& context, std::span<const glm::vec4> inputs) {
 }
 
 ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu, std::span<const float> gpu,
-                              double tolerance, double floor) {
+                              double tolerance, double floor, std::span<const float> flushed, double absolute) {
   ProbeComparison result;
   size_t n = std::min({cpu.size(), gpu.size(), inputs.size() * kProbeValues});
+  // Relative difference (0 below the floor) and whether it fails.
+  auto differ = [&](double a, double b, double& relative) {
+    double scale = std::max(std::abs(a), std::abs(b));
+    double diff = std::abs(a - b);
+    relative = 0;
+    if (scale > floor) {
+      relative = diff / scale;
+      return relative > tolerance;
+    }
+    return diff > floor;
+  };
   for (size_t i = 0; i < n; ++i) {
     const int value = int(i % kProbeValues);
     double a = cpu[i];
@@ -101,20 +135,26 @@ ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const
       ++result.non_finite;
       continue;
     }
-    double scale = std::max(std::abs(a), std::abs(b));
-    double diff = std::abs(a - b);
-    double relative = 0;
-    bool bad;
-    if (scale > floor) {
-      ++result.above_floor;
-      relative = diff / scale;
-      bad = relative > tolerance;
-    } else {
-      bad = diff > floor;
+    if (std::max(std::abs(a), std::abs(b)) > floor) ++result.above_floor;
+    double relative;
+    bool bad = differ(a, b, relative);
+    if (bad && i < flushed.size() && std::isfinite(flushed[i])) {
+      double relative_flushed;
+      if (!differ(flushed[i], b, relative_flushed)) {
+        bad = false;
+        relative = relative_flushed;
+        ++result.flushed_only;
+      }
+    }
+    if (bad && absolute > 0 &&
+        (std::abs(a - b) <= absolute || (i < flushed.size() && std::abs(double(flushed[i]) - b) <= absolute))) {
+      bad = false;
+      ++result.absolute_only;
     }
     if (bad) {
       ++result.mismatches;
       ++result.mismatches_by_value[size_t(value)];
+      if (result.mismatch_indices.size() < 10000) result.mismatch_indices.push_back(i);
     }
     result.max_relative_by_value[size_t(value)] = std::max(result.max_relative_by_value[size_t(value)], relative);
     if (relative > result.max_relative || (bad && result.worst.empty())) {

@@ -54,3 +54,44 @@ TEST(Sweep, ValuesStayInTheirRanges) {
 }
 
 }  // namespace
+
+// A device may flush fp32 denormals to zero (Vulkan allows it; NVIDIA's
+// drivers do, and the H200 failed `svo selftest` on 217 values for that
+// alone). The sweep holds denormal inputs, so the flushed reference must
+// differ from the IEEE one somewhere, and the comparison must accept either.
+TEST(Sweep, FlushedReferenceAcceptsADeviceThatFlushesDenormals) {
+  auto inputs = svo::render::probe_sweep(200);
+  auto ieee = svo::render::probe_cpu(inputs);
+  auto flushed = svo::render::probe_cpu_flushed(inputs);
+  auto strict = svo::render::compare_probe(inputs, ieee, flushed, 1e-5, 1e-20);
+#if defined(__SSE2__)
+  EXPECT_GT(strict.mismatches, 0u) << "the sweep no longer reaches a denormal-sensitive value";
+#endif
+  auto either = svo::render::compare_probe(inputs, ieee, flushed, 1e-5, 1e-20, flushed);
+  EXPECT_EQ(either.mismatches, 0u) << either.worst;
+  EXPECT_EQ(either.flushed_only, strict.mismatches);
+  // A difference neither reference explains is still a mismatch.
+  auto other = flushed;
+  other[5] = other[5] * (1.0f + 1e-3f) + 1e-3f;
+  auto caught = svo::render::compare_probe(inputs, ieee, other, 1e-5, 1e-20, flushed);
+  EXPECT_EQ(caught.mismatches, 1u);
+  ASSERT_EQ(caught.mismatch_indices.size(), 1u);
+  EXPECT_EQ(caught.mismatch_indices[0], 5u);
+  // A relative difference in a tail near zero (the H200's exp there) agrees
+  // within an absolute 1e-5; one of 1e-3 on a value of order one does not.
+  size_t tiny = 0, unit = 0;
+  while (tiny < ieee.size() && !(ieee[tiny] > 1e-20f && ieee[tiny] < 1e-12f)) ++tiny;
+  while (unit < ieee.size() && !(ieee[unit] > 0.1f && ieee[unit] < 1.0f)) ++unit;
+  ASSERT_LT(tiny, ieee.size());
+  ASSERT_LT(unit, ieee.size());
+  auto device = ieee;
+  device[tiny] *= 1.01f;
+  EXPECT_EQ(svo::render::compare_probe(inputs, ieee, device, 1e-5, 1e-20).mismatches, 1u);
+  auto loose = svo::render::compare_probe(inputs, ieee, device, 1e-5, 1e-20, {}, 1e-5);
+  EXPECT_EQ(loose.mismatches, 0u);
+  EXPECT_EQ(loose.absolute_only, 1u);
+  device[unit] += 1e-3f;
+  EXPECT_EQ(svo::render::compare_probe(inputs, ieee, device, 1e-5, 1e-20, {}, 1e-5).mismatches, 1u);
+  // The flushing mode does not leak out of probe_cpu_flushed.
+  EXPECT_EQ(svo::render::probe_cpu(inputs), ieee);
+}
