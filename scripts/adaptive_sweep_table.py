@@ -71,7 +71,7 @@ def main():
         runs = {k: json.load(open(p)) for k, p in frames(host, ".json").items()}
         device = next(iter(runs.values()))["device"]
         print(f"### {device} ({host})\n")
-        if h > 0 and png_reference:
+        if h > 0 and png_reference and frames(host, ".png"):
             worst, off = 0, 0
             for k, p in frames(host, ".png").items():
                 a, b = read_rgb(p), read_rgb(frames(png_reference, ".png")[k])

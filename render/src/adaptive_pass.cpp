@@ -218,15 +218,21 @@ double AdaptivePass::run(PassContext& ctx) {
     double device_ms = 0;
     auto dispatch = [&](uint32_t stage, uint32_t level, double& into) {
       const uint32_t push[2] = {stage, level};
-      const uint32_t texels =
-          stage == 0 ? ((W + side - 1) / side) * ((H + side - 1) / side) : k.width[level] * height[level];
+      const uint32_t texels = stage == 0   ? ((W + side - 1) / side) * ((H + side - 1) / side)
+                              : stage == 4 ? k.width[level] * height[level] * svo::math::SVO_ADAPTIVE_SLOTS
+                                           : k.width[level] * height[level];
       const double ms = c.kernel->dispatch(bound, push, (texels + 63) / 64);
       into = ms < 0 || into < 0 ? -1 : into + ms;
       device_ms = ms < 0 || device_ms < 0 ? -1 : device_ms + ms;
     };
     dispatch(0, 0, stats_.bandwidth_ms);
     for (uint32_t l = 1; l < SVO_ADAPTIVE_LEVELS; ++l) dispatch(1, l, stats_.bandwidth_ms);
-    for (uint32_t l = coarsest + 1; l-- > 0;) dispatch(2, l, stats_.shading_ms);
+    // Each level: mark or upsample its texels, then take the marked ones'
+    // samples, SVO_ADAPTIVE_SLOTS threads per texel.
+    for (uint32_t l = coarsest + 1; l-- > 0;) {
+      dispatch(2, l, stats_.shading_ms);
+      dispatch(4, l, stats_.shading_ms);
+    }
     dispatch(3, 0, stats_.shading_ms);
     count_stats(pyr, bw, g, k.offset, k.width, height, coarsest, std::size_t(W) * H, stats_);
     return device_ms;
@@ -269,7 +275,7 @@ double AdaptivePass::run(PassContext& ctx) {
   for (uint32_t l = coarsest + 1; l-- > 0;) {
     glm::vec4* level = pyr + k.offset[l];
     for_texels(k.width[l], height[l], [&](uint32_t x, uint32_t y) {
-      level[std::size_t(y) * k.width[l] + x] = k.svo_adaptive_level_texel(glm::uvec2(x, y), l);
+      level[std::size_t(y) * k.width[l] + x] = k.svo_adaptive_level_texel(glm::uvec2(x, y), l, true);
     });
   }
   for_texels(W, H, [&](uint32_t x, uint32_t y) {

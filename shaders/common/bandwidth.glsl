@@ -277,7 +277,10 @@ SVO_FN uvec2 svo_adaptive_size(uint level) {
 // svo_adaptive_weight) where all of them may be coarser; shaded with the
 // level's N_p (max-filtered) where its level is this one, or where no
 // coarser texel can stand for it (all weights under 1% of the largest).
-SVO_FN vec4 svo_adaptive_level_texel(uvec2 q, uint level) {
+// With `shade_now` false a texel to shade is only marked (rgb 0): the
+// Vulkan host then takes its samples SVO_ADAPTIVE_SLOTS threads at a time
+// (svo_adaptive_samples_of).
+SVO_FN vec4 svo_adaptive_level_texel(uvec2 q, uint level, bool shade_now) {
   uvec2 c = svo_adaptive_centre(q, level);
   uint pixel = c.y * params.image.x + c.x;
   SvoGBuffer g = svo_adaptive_gbuffer(pixel);
@@ -309,7 +312,25 @@ SVO_FN vec4 svo_adaptive_level_texel(uvec2 q, uint level) {
     }
     if (wsum > 0.01f * 0.5625f) return vec4(sum / wsum, SVO_ADAPTIVE_UPSAMPLED);
   }
+  if (!shade_now) return vec4(0.0f, 0.0f, 0.0f, SVO_ADAPTIVE_SHADED);
   return vec4(svo_adaptive_shade(g, pixel, uint(bw.y + 0.5f)), SVO_ADAPTIVE_SHADED);
+}
+
+// Share `slot` of SVO_ADAPTIVE_SLOTS of the samples of texel `q` of level
+// `level`, marked to shade: contiguous chunks of its N_p samples, each sum
+// already divided by N_p, so that the slots' sum is svo_adaptive_shade's
+// (up to the order of the additions). On a GPU one texel's N_p samples
+// (up to 256) in one thread, beside texels that are only upsampled, left
+// the adaptive pass 15-20x slower per sample than forward shading on the
+// H200 (2026-12-04); the slots spread them over threads.
+SVO_FN vec3 svo_adaptive_samples_of(uvec2 q, uint level, uint slot) {
+  uvec2 c = svo_adaptive_centre(q, level);
+  uint pixel = c.y * params.image.x + c.x;
+  uint spp = max(uint(svo_adaptive_bandwidth(level, q).y + 0.5f), 1u);
+  uint chunk = (spp + SVO_ADAPTIVE_SLOTS - 1u) / SVO_ADAPTIVE_SLOTS;
+  if (slot * chunk >= spp) return vec3(0.0f);
+  SvoForwardSum f = svo_forward_samples_of(svo_adaptive_gbuffer(pixel), pixel, slot * chunk, chunk, spp);
+  return f.diffuse + f.specular;
 }
 
 // The frame's pixel from level 0 of the shading pyramid, as the forward

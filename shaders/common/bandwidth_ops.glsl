@@ -108,6 +108,9 @@ SVO_CONST uint SVO_ADAPTIVE_MEASURED = 4u;     // N_p from the n_b directions' s
 // The pyramid levels of the pass's images (render::AdaptivePass): level 7
 // shades every 128th pixel of each axis.
 SVO_CONST uint SVO_ADAPTIVE_LEVELS = 8u;
+// Threads that share one texel's samples on the Vulkan host (a divisor of
+// the kernel's 64-thread workgroup).
+SVO_CONST uint SVO_ADAPTIVE_SLOTS = 8u;
 // States of a texel of the shading pyramid (its alpha).
 SVO_CONST float SVO_ADAPTIVE_PENDING = 0.0f;    // left to finer levels
 SVO_CONST float SVO_ADAPTIVE_SHADED = 1.0f;     // shaded at this level

@@ -1,9 +1,11 @@
 // The body of the bandwidth-adaptive pass's kernels (common/bandwidth.glsl),
 // compiled once per way of reading the pools (octree_bindings.glsl):
 // adaptive_single.comp, adaptive_address.comp, adaptive_switch.comp. One
-// kernel, four stages (push.stage; render::AdaptivePass::run dispatches them
+// kernel, five stages (push.stage; render::AdaptivePass::run dispatches them
 // in order): 0 the bandwidth buffer's level 0, 1 its level push.level from
-// the finer one, 2 level push.level of the shading pyramid, 3 the frame's
+// the finer one, 2 level push.level of the shading pyramid (upsampled
+// texels, and marks where to shade), 4 the marked texels' samples,
+// SVO_ADAPTIVE_SLOTS threads per texel, after each stage 2; 3 the frame's
 // colour and the shaded-pixel mask.
 layout(local_size_x = 64) in;
 
@@ -54,8 +56,32 @@ SvoGBuffer neighbour(ivec2 at) {
   return svo_adaptive_gbuffer(uint(at.y) * params.image.x + uint(at.x));
 }
 
+shared vec3 svo_slot_sums[64];
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
+  if (push.stage == 4u) {
+    // Every thread reaches the barrier; slot 0 adds its texel's slots in order.
+    uvec2 size = svo_adaptive_size(push.level);
+    uint texel = i / SVO_ADAPTIVE_SLOTS;
+    uint slot = gl_LocalInvocationID.x % SVO_ADAPTIVE_SLOTS;
+    bool marked = false;
+    uvec2 q = uvec2(0u);
+    vec3 part = vec3(0.0f);
+    if (texel < size.x * size.y) {
+      q = uvec2(texel % size.x, texel / size.x);
+      marked = push.level <= adapt.config.w && svo_adaptive_pyramid(push.level, q).w == SVO_ADAPTIVE_SHADED;
+      if (marked) part = svo_adaptive_samples_of(q, push.level, slot);
+    }
+    svo_slot_sums[gl_LocalInvocationID.x] = part;
+    barrier();
+    if (marked && slot == 0u) {
+      vec3 sum = vec3(0.0f);
+      for (uint k = 0u; k < SVO_ADAPTIVE_SLOTS; ++k) sum += svo_slot_sums[gl_LocalInvocationID.x + k];
+      shading_pyramid[svo_adaptive_index(push.level, q)] = vec4(sum, SVO_ADAPTIVE_SHADED);
+    }
+    return;
+  }
   if (push.stage == 0u) {
     // One estimate per block of adapt.frame.z pixels a side, written to its pixels.
     uint side = adapt.frame.z;
@@ -88,7 +114,7 @@ void main() {
         svo_adaptive_bandwidth(level - 1u, uvec2(c0.x, c1.y)), svo_adaptive_bandwidth(level - 1u, c1));
   } else if (push.stage == 2u) {
     shading_pyramid[svo_adaptive_index(level, q)] =
-        level > adapt.config.w ? vec4(0.0f) : svo_adaptive_level_texel(q, level);
+        level > adapt.config.w ? vec4(0.0f) : svo_adaptive_level_texel(q, level, false);
   } else {
     colour_out[i] = svo_adaptive_compose(svo_adaptive_gbuffer(i), background_in[i], i, vec3(shading_pyramid[i]));
     mask_out[i] = svo_adaptive_mask(q);
