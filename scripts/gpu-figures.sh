@@ -14,6 +14,17 @@
 # On the device (or here, to check the script: GPU_FIGURES_DEVICE=llvmpipe
 # GPU_FIGURES_SIZE=128 GPU_FIGURES_REPEATS=2):
 #   scripts/gpu-figures.sh [OUT]         default OUT: $OUT, else build/gpu-figures/out
+# The lent H200 (2026-12-04) lacked libglvnd, without which NVIDIA's Vulkan
+# driver (libGLX_nvidia.so.0) loads but creates no instance ("Found no
+# drivers"). Bring Debian's GL loaders (/work/.library/device/README.md):
+# here `apt-get download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1
+# libglx0 libgles2` into .gl/ (ignored), then a `run` with carry
+# [".gl", "build/gpu-figures"] and the command
+#   for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig;
+#   GPU_FIGURES_REQUIRE=discrete GPU_FIGURES_DEADLINE=300 scripts/gpu-figures.sh /tmp/gf
+# followed by packing /tmp/gf into at most 8 files under $OUT (tar).
+# GPU_FIGURES_REQUIRE=discrete skips every step after the device list when
+# no discrete GPU is listed, keeping the loader's messages instead.
 # runs, each step under a time limit and all of them within 420 s
 # (GPU_FIGURES_DEADLINE; later steps are skipped and listed as such): the device list; `selftest` (the shared math on the device
 # against the C++ build); the agreement check (the small sphere rendered on

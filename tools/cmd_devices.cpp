@@ -48,6 +48,8 @@ void add_devices_command(CLI::App& app, int& exit_code) {
                                   {"max_compute_workgroup_invocations", d.max_compute_workgroup_invocations},
                                   {"subgroup_size", d.subgroup_size},
                                   {"device_local_bytes", d.device_local_bytes},
+                                  {"mapped_device_local_bytes", d.mapped_device_local_bytes},
+                                  {"host_cached", d.host_cached},
                                   {"timestamps", d.timestamps}});
       }
       out["vulkan_error"] = vulkan_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(vulkan_error);
@@ -60,7 +62,10 @@ void add_devices_command(CLI::App& app, int& exit_code) {
                   << ", Vulkan " << d.api_version << ")\n"
                   << "     storage buffer range " << (d.max_storage_buffer_range >> 20) << " MiB, 3D image side "
                   << d.max_image_dimension_3d << ", subgroup " << d.subgroup_size << ", device memory "
-                  << (d.device_local_bytes >> 20) << " MiB, timestamps " << (d.timestamps ? "yes" : "no") << "\n";
+                  << (d.device_local_bytes >> 20) << " MiB, timestamps " << (d.timestamps ? "yes" : "no") << "\n"
+                  << "     memory the CPU maps: device-local " << (d.mapped_device_local_bytes >> 20)
+                  << " MiB (the octree's home when it fits), host-cached " << (d.host_cached ? "yes" : "no")
+                  << " (frames read back)\n";
       }
       if (!vulkan_error.empty()) std::cout << "  " << vulkan_error << "\n";
     }

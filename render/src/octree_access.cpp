@@ -33,8 +33,11 @@ OctreeAccess::OctreeAccess(const octree::Octree& tree, vk::Context& context, uin
                            bool device_address)
     : OctreeAccess(tree) {
   params_ = std::make_unique<vk::Buffer>(context, sizeof(TraceParams));
-  nodes_ = std::make_unique<vk::Buffer>(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2)));
-  masks_ = std::make_unique<vk::Buffer>(context, tracer_mask_buffer().size() * sizeof(Mask));
+  // The tree is written once and read by every cone: in the GPU's own memory where it is host-visible.
+  nodes_ = std::make_unique<vk::Buffer>(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2)), false,
+                                        vk::Residence::Device);
+  masks_ = std::make_unique<vk::Buffer>(context, tracer_mask_buffer().size() * sizeof(Mask), false,
+                                        vk::Residence::Device);
   addresses_ = std::make_unique<vk::Buffer>(context, kPoolSlots * sizeof(uint64_t));
   std::memcpy(nodes_->data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
   std::memcpy(masks_->data(), tracer_mask_buffer().data(), masks_->size());
@@ -71,7 +74,7 @@ OctreeAccess::OctreeAccess(const octree::Octree& tree, vk::Context& context, uin
     const uint64_t count =
         std::min<uint64_t>(bricks_per_slot_, packed_.brick_count - std::min(first, packed_.brick_count));
     const size_t bytes = size_t(count * packed_.brick_bytes + 4);
-    pools_.emplace_back(context, bytes, address);
+    pools_.emplace_back(context, bytes, address, vk::Residence::Device);
     std::memcpy(pools_.back().data(), packed_.bricks.data() + first * packed_.brick_bytes, bytes);
     slot_addresses[s] = pools_.back().device_address();
     pool_bytes_ += bytes;

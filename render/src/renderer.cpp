@@ -162,10 +162,12 @@ class HostMemory : public ImageMemory {
   std::size_t bytes_;
 };
 
-// A host-visible device buffer for the Vulkan host's images.
+// A host-visible device buffer for the Vulkan host's images, in host-cached
+// memory where the device has it: the frame and the passes' statistics are
+// read back by the CPU every frame.
 class DeviceMemory : public ImageMemory {
  public:
-  DeviceMemory(vk::Context& context, std::size_t bytes) : buffer_(context, bytes) {}
+  DeviceMemory(vk::Context& context, std::size_t bytes) : buffer_(context, bytes, false, vk::Residence::Readback) {}
   void* data() override { return buffer_.data(); }
   std::size_t bytes() const override { return buffer_.size(); }
   vk::Buffer* buffer() override { return &buffer_; }

@@ -5,7 +5,8 @@
 
 namespace svo::vk {
 
-Buffer::Buffer(Context& context, std::size_t bytes, bool device_address) : context_(&context), bytes_(bytes) {
+Buffer::Buffer(Context& context, std::size_t bytes, bool device_address, Residence residence)
+    : context_(&context), bytes_(bytes) {
   const DeviceInfo& info = context.info();
   if (bytes == 0) throw Error("Vulkan: a storage buffer of 0 bytes was requested");
   if (device_address && !info.buffer_device_address) {
@@ -32,12 +33,28 @@ Buffer::Buffer(Context& context, std::size_t bytes, bool device_address) : conte
     vkGetBufferMemoryRequirements(device, buffer_, &req);
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = context.memory_type(
-        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
     if (device_address) alloc.pNext = &flags;
-    SVO_VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &memory_));
+    const VkMemoryPropertyFlags preferred = residence == Residence::Device     ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT
+                                            : residence == Residence::Readback ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT
+                                                                               : 0;
+    const auto candidates = context.memory_types(
+        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, preferred);
+    VkResult result = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    // A preferred heap may be small (a 256 MiB window onto a GPU's memory):
+    // out of memory there, the next type is tried.
+    for (const auto& [type, type_flags] : candidates) {
+      alloc.memoryTypeIndex = type;
+      result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
+      if (result == VK_SUCCESS) {
+        memory_flags_ = type_flags;
+        break;
+      }
+      if (result != VK_ERROR_OUT_OF_DEVICE_MEMORY && result != VK_ERROR_OUT_OF_HOST_MEMORY) break;
+      memory_ = VK_NULL_HANDLE;
+    }
+    SVO_VK_CHECK(result);
     SVO_VK_CHECK(vkBindBufferMemory(device, buffer_, memory_, 0));
     SVO_VK_CHECK(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
     if (device_address) {

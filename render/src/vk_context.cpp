@@ -227,6 +227,16 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
       info.device_local_bytes = std::max<uint64_t>(info.device_local_bytes, memory.memoryHeaps[i].size);
     }
   }
+  const VkMemoryPropertyFlags mapped_local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    const VkMemoryType& type = memory.memoryTypes[i];
+    if ((type.propertyFlags & mapped_local) == mapped_local) {
+      info.mapped_device_local_bytes =
+          std::max<uint64_t>(info.mapped_device_local_bytes, memory.memoryHeaps[type.heapIndex].size);
+    }
+    if (type.propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) info.host_cached = true;
+  }
   int family = compute_family(device);
   if (family >= 0) {
     uint32_t count = 0;
@@ -447,6 +457,22 @@ uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags properti
     if ((type_bits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & properties) == properties) return i;
   }
   throw Error("Vulkan: device '" + info_.name + "' has no memory type with the required properties");
+}
+
+std::vector<std::pair<uint32_t, VkMemoryPropertyFlags>> Context::memory_types(uint32_t type_bits,
+                                                                              VkMemoryPropertyFlags properties,
+                                                                              VkMemoryPropertyFlags preferred) const {
+  VkPhysicalDeviceMemoryProperties memory;
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory);
+  std::vector<std::pair<uint32_t, VkMemoryPropertyFlags>> first, then;
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    const VkMemoryPropertyFlags flags = memory.memoryTypes[i].propertyFlags;
+    if (!(type_bits & (1u << i)) || (flags & properties) != properties) continue;
+    ((flags & preferred) == preferred ? first : then).emplace_back(i, flags);
+  }
+  first.insert(first.end(), then.begin(), then.end());
+  if (first.empty()) throw Error("Vulkan: device '" + info_.name + "' has no memory type with the required properties");
+  return first;
 }
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {

@@ -12,6 +12,16 @@
 
 namespace svo::vk {
 
+// Where a buffer's memory should live, among the host-visible, host-coherent
+// types (every buffer stays mapped). On lavapipe all are one; a discrete GPU
+// lists system memory first (uncached for the CPU's reads, and read by the
+// GPU across PCIe) and may list its own memory as host-visible too.
+enum class Residence {
+  Shared,    // the first host-visible type (the default)
+  Device,    // written once by the CPU, read often by the GPU: a device-local type first
+  Readback,  // written by the GPU, read by the CPU: a host-cached type first
+};
+
 // A storage buffer in host-visible, host-coherent memory, mapped for its lifetime.
 class Buffer {
  public:
@@ -20,7 +30,9 @@ class Buffer {
   // `device_address` the buffer is read through its device address instead
   // (see device_address()): the bound is then maxMemoryAllocationSize, and
   // the device must have DeviceInfo::buffer_device_address.
-  Buffer(Context& context, std::size_t bytes, bool device_address = false);
+  // `residence` orders the candidate memory types; one whose heap cannot
+  // hold the buffer is passed over for the next.
+  Buffer(Context& context, std::size_t bytes, bool device_address = false, Residence residence = Residence::Shared);
   ~Buffer();
   Buffer(Buffer&& other) noexcept;
   Buffer& operator=(Buffer&&) = delete;
@@ -31,6 +43,7 @@ class Buffer {
   uint64_t device_address() const { return address_; }  // 0 unless created with device_address
   std::size_t size() const { return bytes_; }
   void* data() const { return mapped_; }
+  VkMemoryPropertyFlags memory_flags() const { return memory_flags_; }
 
   template <class T>
   std::span<T> as() const {
@@ -44,6 +57,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;
   uint64_t address_ = 0;
+  VkMemoryPropertyFlags memory_flags_ = 0;
 };
 
 // A compute pipeline whose set 0 holds `storage_buffers` storage buffers at

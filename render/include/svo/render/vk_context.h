@@ -12,6 +12,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace svo::vk {
@@ -41,6 +42,8 @@ struct DeviceInfo {
   uint32_t max_compute_workgroup_invocations = 0;
   uint32_t subgroup_size = 0;
   uint64_t device_local_bytes = 0;
+  uint64_t mapped_device_local_bytes = 0;  // largest device-local heap the CPU can map (a BAR window or all of it)
+  bool host_cached = false;                // a host-visible type the CPU caches (fast read-back)
   bool timestamps = false;         // compute queue supports timestamp queries
   uint64_t max_allocation_bytes = 0;  // maxMemoryAllocationSize
   // Buffers read through 64-bit device addresses (VK_KHR_buffer_device_address
@@ -101,6 +104,11 @@ class Context {
 
   // Memory type index with the requested properties among `type_bits`; throws Error if none.
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
+  // Every type with `properties`, those that also have `preferred` first
+  // (each group in the device's order), with their property flags.
+  std::vector<std::pair<uint32_t, VkMemoryPropertyFlags>> memory_types(uint32_t type_bits,
+                                                                       VkMemoryPropertyFlags properties,
+                                                                       VkMemoryPropertyFlags preferred) const;
 
   // Records commands with `record` into a fresh command buffer, submits it to
   // the compute queue and waits for it to finish.
