@@ -178,7 +178,7 @@ def frame(name):
     if not j:
         return {"error": error(name)}
     ms = j.get("ms")
-    return {"ms": ms, "fps": 1000.0 / ms if ms else None, "wall_ms": j.get("wall_ms"),
+    return {"ms": ms, "fps": 1000.0 / ms if ms else None, "wall_ms": j.get("wall_ms"), "warm_wall_ms": j.get("warm_wall_ms"),
             "us_per_pixel": j.get("us_per_pixel"), "steps_per_pixel": j.get("steps_per_pixel"),
             "covered_pixels": j.get("covered_pixels"), "device": j.get("device"), "passes": j.get("passes")}
 
