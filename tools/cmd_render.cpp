@@ -114,8 +114,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
                   "(the background's share of colour), gbuffer (every G-buffer field), steps, display")
       ->group("Output");
   cmd->add_flag("--json", a->json,
-                "Print one JSON object on stdout: width, height, ms, wall_ms (the first frame's host time), warm_wall_ms (the "
-                "median of the --repeats after it), covered_pixels, us_per_pixel, "
+                "Print one JSON object on stdout: width, height, ms, wall_ms (the first frame's host time), "
+                "warm_wall_ms (the median of the --repeats after it), covered_pixels, us_per_pixel, "
                 "steps_per_pixel, mode, view, device, device_type, passes (name and ms of each), ...")
       ->group("Output");
 
@@ -417,7 +417,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
                          {"passes", passes},
                          {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
                          {"wall_ms", frame.wall_ms},
-                         {"warm_wall_ms", walls.empty() ? nlohmann::json(nullptr) : nlohmann::json(walls[walls.size() / 2])},
+                         {"warm_wall_ms",
+                          walls.empty() ? nlohmann::json(nullptr) : nlohmann::json(walls[walls.size() / 2])},
                          {"load_ms", load_ms},
                          {"setup_ms", setup_ms},
                          {"covered_pixels", frame.covered_pixels},

@@ -2,8 +2,8 @@
 // the C++ build of the same source. Exit code 1 when they disagree.
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "commands.h"
 #include "svo/octree/files.h"

@@ -36,8 +36,8 @@ OctreeAccess::OctreeAccess(const octree::Octree& tree, vk::Context& context, uin
   // The tree is written once and read by every cone: in the GPU's own memory where it is host-visible.
   nodes_ = std::make_unique<vk::Buffer>(context, std::max<size_t>(8, packed_.nodes.size() * sizeof(glm::uvec2)), false,
                                         vk::Residence::Device);
-  masks_ = std::make_unique<vk::Buffer>(context, tracer_mask_buffer().size() * sizeof(Mask), false,
-                                        vk::Residence::Device);
+  masks_ =
+      std::make_unique<vk::Buffer>(context, tracer_mask_buffer().size() * sizeof(Mask), false, vk::Residence::Device);
   addresses_ = std::make_unique<vk::Buffer>(context, kPoolSlots * sizeof(uint64_t));
   std::memcpy(nodes_->data(), packed_.nodes.data(), packed_.nodes.size() * sizeof(glm::uvec2));
   std::memcpy(masks_->data(), tracer_mask_buffer().data(), masks_->size());

@@ -44,13 +44,10 @@ Buffer::Buffer(Context& context, std::size_t bytes, bool device_address, Residen
     VkResult result = VK_ERROR_OUT_OF_DEVICE_MEMORY;
     // A preferred heap may be small (a 256 MiB window onto a GPU's memory):
     // out of memory there, the next type is tried.
-    for (const auto& [type, type_flags] : candidates) {
-      alloc.memoryTypeIndex = type;
+    for (const auto& candidate : candidates) {
+      alloc.memoryTypeIndex = candidate.first;
       result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
-      if (result == VK_SUCCESS) {
-        memory_flags_ = type_flags;
-        break;
-      }
+      if (result == VK_SUCCESS) break;
       if (result != VK_ERROR_OUT_OF_DEVICE_MEMORY && result != VK_ERROR_OUT_OF_HOST_MEMORY) break;
       memory_ = VK_NULL_HANDLE;
     }

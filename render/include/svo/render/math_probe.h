@@ -67,7 +67,6 @@ struct ProbeComparison {
 // into one rounding, which shows as relative error in tails near zero and
 // after cancellation (the H200, 2026-12-04: 281 values, at most 2.9e-5 off).
 ProbeComparison compare_probe(std::span<const glm::vec4> inputs, std::span<const float> cpu, std::span<const float> gpu,
-                              double tolerance, double floor, std::span<const float> flushed = {},
-                              double absolute = 0);
+                              double tolerance, double floor, std::span<const float> flushed = {}, double absolute = 0);
 
 }  // namespace svo::render

@@ -43,7 +43,6 @@ class Buffer {
   uint64_t device_address() const { return address_; }  // 0 unless created with device_address
   std::size_t size() const { return bytes_; }
   void* data() const { return mapped_; }
-  VkMemoryPropertyFlags memory_flags() const { return memory_flags_; }
 
   template <class T>
   std::span<T> as() const {
@@ -57,7 +56,6 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;
   uint64_t address_ = 0;
-  VkMemoryPropertyFlags memory_flags_ = 0;
 };
 
 // A compute pipeline whose set 0 holds `storage_buffers` storage buffers at
