@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <glm/geometric.hpp>
 
 #include "lattice_points.h"
@@ -439,3 +441,135 @@ TEST(Mesh, MtllibNamingADeviceIsRefusedAMissingOneWarned) {
 }
 
 }  // namespace
+
+namespace svo {
+namespace {
+
+// libcgal-demo's corner_poly.off: a cube with a corner notched out, whose
+// top and bottom are L-shaped hexagons. The fan from their first corner
+// (8: (0, 1)) covers the notch with a triangle wound backwards.
+const char* const kCornerPolyOff =
+    "OFF\n12 8 0\n0 2 1\n2 2 1\n2 0 1\n0 2 -1\n2 2 -1\n2 0 -1\n1 1 1\n1 1 -1\n0 1 1\n0 1 -1\n1 0 1\n1 0 -1\n"
+    "4  3 0 1 4\n6  8 6 10 2 1 0\n4  9 8 0 3\n6  9 3 4 5 11 7\n4  5 4 1 2\n4  9 7 6 8\n4  11 5 2 10\n"
+    "4  11 10 6 7\n";
+
+double total_area(const voxelizer::TriangleMesh& mesh) {
+  double area = 0;
+  for (const glm::ivec3& t : mesh.triangles) {
+    const glm::dvec3 a = mesh.positions[size_t(t.x)], b = mesh.positions[size_t(t.y)],
+                     c = mesh.positions[size_t(t.z)];
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  return area;
+}
+
+// The notched cube's surface, [0, 2]^2 x [-1, 1] less [0, 1]^2 x [-1, 1]:
+// two L-shapes of 3, the walls x = 2 and y = 2 of 4, the walls x = 0 and
+// y = 0 and the notch's two walls of 2.
+double notched_cube_area() { return 2 * 3 + 2 * 4 + 4 * 2; }
+
+TEST(Polygon, ConvexPolygonsKeepTheirFanNonConvexOnesAreEarClipped) {
+  const std::vector<glm::dvec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  EXPECT_EQ(voxelizer::triangulate_polygon(square), (std::vector<glm::ivec3>{{0, 1, 2}, {0, 2, 3}}));
+  // The L of corner_poly.off's top, corners 8 6 10 2 1 0, in any orientation.
+  std::vector<glm::dvec3> l{{0, 1, 1}, {1, 1, 1}, {1, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}};
+  for (int turn = 0; turn < 2; ++turn) {
+    const std::vector<glm::ivec3> t = voxelizer::triangulate_polygon(l);
+    ASSERT_EQ(t.size(), 4u);
+    double area = 0;
+    glm::dvec3 normal(0);
+    for (const glm::ivec3& i : t) {
+      const glm::dvec3 n = glm::cross(l[size_t(i.y)] - l[size_t(i.x)], l[size_t(i.z)] - l[size_t(i.x)]);
+      normal += n;
+      area += 0.5 * glm::length(n);
+    }
+    EXPECT_NEAR(area, 3.0, 1e-12) << "the triangles cover the L once";
+    EXPECT_NEAR(0.5 * glm::length(normal), 3.0, 1e-12) << "all wound as the polygon";
+    // The same L in the plane x = 0, wound the other way.
+    for (glm::dvec3& p : l) p = glm::dvec3(0, p.y, 2 - p.x);
+    std::reverse(l.begin(), l.end());
+  }
+  // Fewer than four corners: as given.
+  EXPECT_EQ(voxelizer::triangulate_polygon(std::vector<glm::dvec3>(square.begin(), square.begin() + 3)),
+            (std::vector<glm::ivec3>{{0, 1, 2}}));
+}
+
+TEST(Mesh, NonConvexPolygonsKeepTheirShapeInEveryReader) {
+  // OpenMesh's OFF reader; svo's own (a comment line before the keyword);
+  // OpenMesh's OBJ reader (1-based corners, texture coordinates per corner).
+  textured_square("checker.png", true);  // square.mtl, whose material "checker" is textured
+  std::string obj = "# the notched cube\nmtllib square.mtl\nusemtl checker\n";
+  std::istringstream off(kCornerPolyOff);
+  std::string line;
+  std::getline(off, line);
+  std::getline(off, line);
+  for (int v = 0; v < 12 && std::getline(off, line); ++v) {
+    obj += "v " + line + "\n";
+    std::istringstream xyz(line);
+    double x, y, z;
+    xyz >> x >> y >> z;
+    obj += "vt " + std::to_string(x / 2) + " " + std::to_string(y / 2) + "\n";
+  }
+  while (std::getline(off, line)) {
+    std::istringstream words(line);
+    int k;
+    if (!(words >> k)) continue;
+    obj += "f";
+    for (int i = 0, c; i < k && words >> c; ++i) {
+      const std::string corner = std::to_string(c + 1);
+      obj.append(" ").append(corner).append("/").append(corner);
+    }
+    obj += "\n";
+  }
+  const std::vector<std::string> files{write_file("corner_poly.off", kCornerPolyOff),
+                                       write_file("corner_poly_own.off", std::string("# own\n") + kCornerPolyOff),
+                                       write_file("corner_poly.obj", obj)};
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    std::vector<std::string> warnings;
+    voxelizer::MeshOptions options;
+    options.warning = [&](const std::string& w) { warnings.push_back(w); };
+    const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file, options);
+    EXPECT_EQ(mesh.triangles.size(), 2u * 4u + 6u * 2u);
+    EXPECT_NEAR(total_area(mesh), notched_cube_area(), 1e-9);
+    EXPECT_EQ(mesh.open_edges, 0u);
+    EXPECT_EQ(mesh.nonmanifold_edges, 0u);
+    bool said = false;
+    for (const std::string& w : warnings) said = said || w.find("2 non-convex polygons split") != std::string::npos;
+    EXPECT_TRUE(said);
+    if (file.ends_with(".obj")) {
+      // Each corner keeps its own texture coordinates.
+      ASSERT_EQ(mesh.face_uv.size(), mesh.triangles.size());
+      ASSERT_EQ(std::count(mesh.face_texture.begin(), mesh.face_texture.end(), 0), std::ptrdiff_t(mesh.triangles.size()));
+      for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+          const glm::dvec3 p = mesh.positions[size_t(mesh.triangles[t][c])];
+          EXPECT_NEAR(mesh.face_uv[t][size_t(c)].x, p.x / 2, 1e-5);
+          EXPECT_NEAR(mesh.face_uv[t][size_t(c)].y, p.y / 2, 1e-5);
+        }
+      }
+    }
+  }
+}
+
+// The commonest textured OBJ, a quad with a texture coordinate per corner,
+// was refused: OpenMesh fans the quad and leaves its triangles' texture
+// coordinates undefined ("face 0 has a non-finite texture coordinate").
+TEST(Mesh, TexturedQuadsKeepTheirCornersCoordinates) {
+  textured_square("checker.png", true);
+  const std::string file = write_file("quad.obj",
+                                      "mtllib square.mtl\nv -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+                                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\nf 1/1 2/2 3/3 4/4\n");
+  const voxelizer::TriangleMesh mesh = voxelizer::read_mesh(file);
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  for (size_t t = 0; t < 2; ++t) {
+    EXPECT_EQ(mesh.face_texture[t], 0);
+    for (int c = 0; c < 3; ++c) {
+      const glm::dvec3 p = mesh.positions[size_t(mesh.triangles[t][c])];
+      EXPECT_EQ(mesh.face_uv[t][size_t(c)], glm::vec2(float(p.x + 0.5), float(p.y + 0.5)));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace svo

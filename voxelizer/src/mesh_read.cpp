@@ -154,19 +154,57 @@ std::string mtl_material_json(const std::string& name, const MtlMaterial& m) {
 // The OBJ's usemtl name of each triangle OpenMesh makes (a face of n corners
 // becomes n - 2 triangles, in file order): names in order of first use ("default" before
 // any usemtl), and per triangle an index into them.
+// A file's polygons of 4 or more corners as it lists them, for
+// resplit_polygons: where each one's triangles start once every face is
+// fanned (a face of k corners makes k - 2), its corners (0-based vertex
+// indices; -1 where one cannot be read) and, where every corner names one,
+// their texture coordinates. Triangles take no memory here.
+struct FilePolygon {
+  size_t first_triangle = 0;
+  std::vector<int> corners;
+  std::vector<glm::vec2> uv;  // empty, or one per corner
+};
+struct FilePolygons {
+  std::vector<FilePolygon> polygons;
+  size_t triangles = 0;  // of all faces, fanned
+  // Adds a face of `corners` (and their `uv`, if any): kept if a polygon.
+  void add(std::vector<int> corners, std::vector<glm::vec2> uv) {
+    const size_t k = corners.size();
+    if (k > 3) polygons.push_back({triangles, std::move(corners), std::move(uv)});
+    triangles += k >= 3 ? k - 2 : 0;
+  }
+};
+
+// Also the faces' polygons (FilePolygons; an index counted back from the
+// vertices or texture coordinates read so far when negative).
 struct ObjGroups {
   std::vector<std::string> names;
   std::vector<uint32_t> triangle_group;
+  FilePolygons polygons;
 };
 ObjGroups obj_groups(const std::string& path) {
   ObjGroups g;
   uint32_t current = 0;
   bool named = false;
+  int vertices = 0;
+  std::vector<glm::vec2> texcoords;
+  // A 1-based OBJ index, or a negative one counted back from `count`, to 0-based; -1 if out of range.
+  auto resolve = [](long i, int count) { return i > 0 && i <= count ? int(i - 1) : i < 0 && -i <= count ? int(count + i) : -1; };
   std::ifstream in(path);
   for (std::string line; std::getline(in, line);) {
     std::istringstream words(line);
     std::string keyword;
     if (!(words >> keyword)) continue;
+    if (keyword == "v") {
+      ++vertices;
+      continue;
+    }
+    if (keyword == "vt") {
+      glm::vec2 t(0.0f);
+      words >> t.x >> t.y;
+      texcoords.push_back(t);
+      continue;
+    }
     if (keyword == "usemtl") {
       std::string name;
       words >> name;
@@ -178,7 +216,22 @@ ObjGroups obj_groups(const std::string& path) {
     }
     if (keyword != "f") continue;
     int corners = 0;
-    for (std::string t; words >> t && t[0] != '#';) ++corners;
+    std::vector<int> face;
+    std::vector<glm::vec2> uv;
+    bool all_uv = true;
+    for (std::string t; words >> t && t[0] != '#';) {
+      ++corners;
+      // "v", "v/vt", "v//vn", "v/vt/vn"
+      face.push_back(resolve(std::strtol(t.c_str(), nullptr, 10), vertices));
+      const size_t slash = t.find('/');
+      const int vt = slash == std::string::npos || slash + 1 >= t.size() || t[slash + 1] == '/'
+                         ? -1
+                         : resolve(std::strtol(t.c_str() + slash + 1, nullptr, 10), int(texcoords.size()));
+      all_uv = all_uv && vt >= 0;
+      if (all_uv) uv.push_back(texcoords[size_t(vt)]);
+    }
+    if (!all_uv) uv.clear();
+    g.polygons.add(std::move(face), std::move(uv));
     if (!named) {
       g.names.insert(g.names.begin(), "default");
       for (auto& t : g.triangle_group) ++t;
@@ -305,14 +358,14 @@ glm::vec3 TriangleMesh::colour(size_t triangle, glm::dvec3 bary) const {
 
 namespace {
 
-// The positions and faces (fanned from their first corner) of an ASCII OFF
-// file the screen accepted (screen_off: vertex lines of 3 or more numbers,
+// The positions and faces (fanned from their first corner; the polygons
+// into `polygons`) of an ASCII OFF file the screen accepted (screen_off: vertex lines of 3 or more numbers,
 // face lines of a count, that many indices below the vertex count and at
 // most 4 colour numbers), colours not read; nullopt for the 4OFF and nOFF
 // forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
 // faces: it misreads face colours in a plain OFF file (libcgal-demo's
 // quint_tris.off: 1 of 20 triangles kept).
-std::optional<MeshArrays> read_off_plainly(const std::string& path) {
+std::optional<MeshArrays> read_off_plainly(const std::string& path, FilePolygons* polygons) {
   std::ifstream in(path);
   std::string first;
   // Comment and blank lines before the keyword, as the screen skips them.
@@ -350,13 +403,73 @@ std::optional<MeshArrays> read_off_plainly(const std::string& path) {
     ++faces;
     const size_t k = size_t(std::strtoll(w[0].c_str(), nullptr, 10));
     if (k > size_t(kMaxPolygonCorners) || w.size() < k + 1) return std::nullopt;
-    const int corner0 = int(std::strtol(w[1].c_str(), nullptr, 10));
-    for (size_t i = 2; i < k; ++i) {
-      arrays.triangles.emplace_back(corner0, int(std::strtol(w[i].c_str(), nullptr, 10)),
-                                    int(std::strtol(w[i + 1].c_str(), nullptr, 10)));
-    }
+    std::vector<int> polygon;
+    for (size_t i = 1; i <= k; ++i) polygon.push_back(int(std::strtol(w[i].c_str(), nullptr, 10)));
+    for (size_t i = 2; i < k; ++i) arrays.triangles.emplace_back(polygon[0], polygon[i - 1], polygon[i]);
+    polygons->add(std::move(polygon), {});
   }
   return arrays;
+}
+
+// Each polygon's run of triangles, made as fans (OpenMesh's reader, the OFF
+// reader above), split again by triangulate_polygon where the fan leaves a
+// non-convex polygon; face_uv follows the corners. The file's texture
+// coordinates, where it gives them, are its polygons' corners': OpenMesh
+// leaves those of its fan's triangles undefined (a textured OBJ quad was
+// refused for "a non-finite texture coordinate"). Nothing changes unless
+// the triangles are exactly the polygons' fans, in order (a reader that
+// dropped or reordered faces). Returns the polygons split again.
+size_t resplit_polygons(MeshArrays& arrays, const FilePolygons& file) {
+  if (file.triangles != arrays.triangles.size()) return 0;
+  for (const FilePolygon& polygon : file.polygons) {
+    const std::vector<int>& c = polygon.corners;
+    for (size_t i = 2; i < c.size(); ++i) {
+      if (arrays.triangles[polygon.first_triangle + i - 2] != glm::ivec3(c[0], c[i - 1], c[i])) return 0;
+    }
+  }
+  const int n = int(arrays.positions.size());
+  const bool uv = arrays.face_uv.size() == arrays.triangles.size();
+  size_t split = 0;
+  std::vector<glm::dvec3> corners;
+  std::vector<glm::vec2> corner_uv;
+  for (const FilePolygon& polygon : file.polygons) {
+    const std::vector<int>& c = polygon.corners;
+    const size_t k = c.size(), first = polygon.first_triangle;
+    if (std::any_of(c.begin(), c.end(), [n](int i) { return i < 0 || i >= n; })) continue;
+    corners.clear();
+    for (int i : c) corners.push_back(arrays.positions[size_t(i)]);
+    const std::vector<glm::ivec3> local = triangulate_polygon(corners);
+    bool same = true;
+    for (size_t j = 0; j < local.size(); ++j) same = same && local[j] == glm::ivec3(0, int(j) + 1, int(j) + 2);
+    const bool file_uv = uv && polygon.uv.size() == k;
+    if (same && !file_uv) continue;
+    // Each corner's texture coordinates: the file's, else from the fan's triangles.
+    corner_uv.assign(k, glm::vec2(0.0f));
+    if (file_uv) {
+      corner_uv = polygon.uv;
+    } else if (uv) {
+      for (size_t j = 0; j + 2 < k; ++j) {
+        const auto& t = arrays.face_uv[first + j];
+        corner_uv[0] = t[0];
+        corner_uv[j + 1] = t[1];
+        corner_uv[j + 2] = t[2];
+      }
+    }
+    for (size_t j = 0; j < local.size(); ++j) {
+      const glm::ivec3 l = local[j];
+      arrays.triangles[first + j] = glm::ivec3(c[size_t(l.x)], c[size_t(l.y)], c[size_t(l.z)]);
+      if (uv) arrays.face_uv[first + j] = {corner_uv[size_t(l.x)], corner_uv[size_t(l.y)], corner_uv[size_t(l.z)]};
+    }
+    split += same ? 0 : 1;
+  }
+  return split;
+}
+
+void report_resplit(const std::string& path, size_t split, const MeshOptions& options) {
+  if (split > 0 && options.warning) {
+    options.warning(path + ": " + std::to_string(split) + " non-convex polygon" + (split == 1 ? "" : "s") +
+                    " split by ear clipping (a fan from the first corner would leave the polygon)");
+  }
 }
 
 }  // namespace
@@ -382,7 +495,8 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::FaceTexCoord;
   double file_triangles = -1;
   std::string own_reader;
-  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &own_reader); !why.empty()) {
+  bool file_polygons = false;
+  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &own_reader, &file_polygons); !why.empty()) {
     throw std::runtime_error(path + ": " + why);
   }
   // An OFF file OpenMesh's reader cannot be trusted with is read by svo's
@@ -394,7 +508,8 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   // 4OFF and nOFF forms, which that reader does not read, are refused
   // rather than handed to OpenMesh.
   if (!own_reader.empty()) {
-    std::optional<MeshArrays> plain = read_off_plainly(path);
+    FilePolygons polygons;
+    std::optional<MeshArrays> plain = read_off_plainly(path, &polygons);
     if (!plain) {
       throw std::runtime_error(path + ": a 4OFF or nOFF file with " + own_reader + ": not read (OpenMesh's " +
                                "reader cannot be trusted with it; write it as plain OFF)");
@@ -403,6 +518,7 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
       options.warning(path + ": " + own_reader + ": read by svo's own OFF reader (positions and faces; colours " +
                       "not read)");
     }
+    report_resplit(path, resplit_polygons(*plain, polygons), options);
     return make_triangle_mesh(path, std::move(*plain), options);
   }
   // OpenMesh opens the OBJ's material files itself.
@@ -418,11 +534,13 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
     const auto file = uint64_t(file_triangles);
     const std::string kept = std::to_string(mesh.n_faces()) + " of " + std::to_string(file) + " triangles";
     if (lower_extension(path) == ".off") {
-      if (std::optional<MeshArrays> plain = read_off_plainly(path)) {
+      FilePolygons polygons;
+      if (std::optional<MeshArrays> plain = read_off_plainly(path, &polygons)) {
         if (options.warning) {
           options.warning(path + ": OpenMesh's reader kept " + kept + ": read by svo's own (positions and faces; " +
                           "colours not read)");
         }
+        report_resplit(path, resplit_polygons(*plain, polygons), options);
         return make_triangle_mesh(path, std::move(*plain), options);
       }
     }
@@ -501,12 +619,20 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
     arrays.face_uv.push_back(uv);
     arrays.face_texture.push_back(texture);
   }
+  // OpenMesh fans every polygon: non-convex ones of an OFF or OBJ file are
+  // split again from the file's own corner lists.
+  const bool obj = lower_extension(path) == ".obj";
+  const ObjGroups groups = obj ? obj_groups(path) : ObjGroups{};
+  if (obj) {
+    report_resplit(path, resplit_polygons(arrays, groups.polygons), options);
+  } else if (lower_extension(path) == ".off" && file_polygons) {
+    FilePolygons polygons;
+    if (read_off_plainly(path, &polygons)) report_resplit(path, resplit_polygons(arrays, polygons), options);
+  }
   // OBJ usemtl groups: a material per group, from its MTL entry, when there
   // are two or more and OpenMesh kept every triangle in file order.
-  const bool obj = lower_extension(path) == ".obj";
   const std::map<std::string, MtlMaterial> mtl = obj ? read_mtl_materials(path) : std::map<std::string, MtlMaterial>{};
   if (obj) {
-    const ObjGroups groups = obj_groups(path);
     if (groups.names.size() > 1 && groups.triangle_group.size() == mesh.n_faces() &&
         arrays.triangles.size() == mesh.n_faces()) {
       arrays.face_material = groups.triangle_group;

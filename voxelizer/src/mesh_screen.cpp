@@ -303,7 +303,8 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles
 // than the file: OpenMesh reads "-5" into an unsigned count and reserves
 // memory for it (16 GiB, found by the mesh_file fuzz target). Binary OFF is
 // refused (its counts' byte order is OpenMesh's guess).
-std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles, std::string& own_reader) {
+std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles, std::string& own_reader,
+                       bool& polygons) {
   // Comment and blank lines may come before the keyword (CGAL writes them).
   std::string first;
   size_t skipped = 0;
@@ -391,6 +392,7 @@ std::string screen_off(std::istream& in, uintmax_t file_bytes, double& triangles
       if (!is_number(w[i])) return where + "'" + w[i].substr(0, 40) + "' is not a number";
     }
     if (w.size() > 1 + k) own_reader = "faces with colours";
+    polygons = polygons || k > 3;
     if ((triangles += double(k) - 2) > kMaxMeshTriangles) {
       return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
     }
@@ -428,7 +430,7 @@ bool obj_index(const std::string& t, size_t& at, bool optional, long& value) {
 // corners V, V/T, V//N or V/T/N with V and T non-zero integers naming a
 // vertex and a texture coordinate of the file (negative: counted back from
 // the line). "vc" lines are refused (below).
-std::string screen_obj(std::istream& in, double& triangles) {
+std::string screen_obj(std::istream& in, double& triangles, bool& polygons) {
   // First pass: the vertices and texture coordinates a positive index may name.
   long vertices = 0, uvs = 0;
   std::string line;
@@ -508,6 +510,7 @@ std::string screen_obj(std::istream& in, double& triangles) {
         return why;
     }
     if (corners < 3) return where + "a face needs 3 corners";
+    polygons = polygons || corners > 3;
     if ((triangles += corners - 2) > kMaxMeshTriangles) {
       return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
     }
@@ -551,8 +554,9 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string screen_mesh_file(const std::string& path, double* triangles, std::string* own_reader) {
+std::string screen_mesh_file(const std::string& path, double* triangles, std::string* own_reader, bool* polygons) {
   if (triangles) *triangles = -1;
+  if (polygons) *polygons = false;
   if (own_reader) own_reader->clear();
   const std::string ext = lower_extension(path);
   std::ifstream in(path, std::ios::binary);
@@ -562,13 +566,14 @@ std::string screen_mesh_file(const std::string& path, double* triangles, std::st
   if (error) return "";
   double counted = 0;
   std::string own;
+  bool any_polygon = false;
   std::string why;
   if (ext == ".ply") {
     why = screen_ply(in, bytes, counted);
   } else if (ext == ".off") {
-    why = screen_off(in, bytes, counted, own);
+    why = screen_off(in, bytes, counted, own, any_polygon);
   } else if (ext == ".obj") {
-    why = screen_obj(in, counted);
+    why = screen_obj(in, counted, any_polygon);
   } else if (ext == ".stl") {
     why = screen_stl(in, bytes, counted);
   } else {
@@ -576,6 +581,7 @@ std::string screen_mesh_file(const std::string& path, double* triangles, std::st
   }
   if (triangles && why.empty()) *triangles = counted;
   if (own_reader && why.empty()) *own_reader = own;
+  if (polygons && why.empty()) *polygons = any_polygon;
   return why;
 }
 

@@ -32,8 +32,10 @@ std::string lower_extension(const std::string& path);
 // when given: why an OFF file must be read by svo's own reader, or "":
 // "faces with colours" (numbers after a face's corners, which OpenMesh's
 // reader misreads), "comment lines before the OFF keyword" (as CGAL writes
-// them; OpenMesh's reader refuses the file).
-std::string screen_mesh_file(const std::string& path, double* triangles = nullptr, std::string* own_reader = nullptr);
+// them; OpenMesh's reader refuses the file). `polygons`, when given:
+// whether an OFF or OBJ file has a face of more than 3 corners.
+std::string screen_mesh_file(const std::string& path, double* triangles = nullptr, std::string* own_reader = nullptr,
+                             bool* polygons = nullptr);
 
 // Checks the OBJ's mtllib files where OpenMesh and read_mtl_materials look
 // for them (relative to the OBJ): each must be a regular file of at most

@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,15 @@ inline constexpr double kDefaultMaxTotalTexturePixels = 4 * kDefaultMaxTexturePi
 // 21 s) and kMaxMeshTriangles triangles once polygons are split.
 inline constexpr int kMaxPolygonCorners = 1000;
 inline constexpr double kMaxMeshTriangles = 100e6;
+
+// The k - 2 triangles of a polygon of k corners (in order), as corner
+// numbers 0..k-1 wound as the polygon: its fan from the first corner where
+// the polygon is convex (as OpenMesh and the OFF reader split every
+// polygon), else ear clipping in the plane of its Newell normal, so that a
+// non-convex polygon keeps its shape (libcgal-demo's corner_poly.off: the
+// fan of an L-shaped hexagon covers the square the L leaves out). A
+// polygon with no ear left (self-intersecting) ends as a fan.
+std::vector<glm::ivec3> triangulate_polygon(std::span<const glm::dvec3> corners);
 
 // A mesh whose bounding box is smaller than this on every axis is refused:
 // the octree squares voxel sizes in float (1.2e-38 is the smallest normal).
