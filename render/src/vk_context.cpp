@@ -451,12 +451,7 @@ void Context::release() {
 }
 
 uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags properties) const {
-  VkPhysicalDeviceMemoryProperties memory;
-  vkGetPhysicalDeviceMemoryProperties(physical_, &memory);
-  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
-    if ((type_bits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & properties) == properties) return i;
-  }
-  throw Error("Vulkan: device '" + info_.name + "' has no memory type with the required properties");
+  return memory_types(type_bits, properties, 0).front().first;
 }
 
 std::vector<std::pair<uint32_t, VkMemoryPropertyFlags>> Context::memory_types(uint32_t type_bits,
@@ -471,7 +466,9 @@ std::vector<std::pair<uint32_t, VkMemoryPropertyFlags>> Context::memory_types(ui
     ((flags & preferred) == preferred ? first : then).emplace_back(i, flags);
   }
   first.insert(first.end(), then.begin(), then.end());
-  if (first.empty()) throw Error("Vulkan: device '" + info_.name + "' has no memory type with the required properties");
+  if (first.empty()) {
+    throw Error("Vulkan: device '" + info_.name + "' has no memory type with the required properties");
+  }
   return first;
 }
 

@@ -540,7 +540,8 @@ TEST(Mesh, NonConvexPolygonsKeepTheirShapeInEveryReader) {
     if (file.ends_with(".obj")) {
       // Each corner keeps its own texture coordinates.
       ASSERT_EQ(mesh.face_uv.size(), mesh.triangles.size());
-      ASSERT_EQ(std::count(mesh.face_texture.begin(), mesh.face_texture.end(), 0), std::ptrdiff_t(mesh.triangles.size()));
+      ASSERT_EQ(std::count(mesh.face_texture.begin(), mesh.face_texture.end(), 0),
+                std::ptrdiff_t(mesh.triangles.size()));
       for (size_t t = 0; t < mesh.triangles.size(); ++t) {
         for (int c = 0; c < 3; ++c) {
           const glm::dvec3 p = mesh.positions[size_t(mesh.triangles[t][c])];

@@ -151,9 +151,6 @@ std::string mtl_material_json(const std::string& name, const MtlMaterial& m) {
   return j.str();
 }
 
-// The OBJ's usemtl name of each triangle OpenMesh makes (a face of n corners
-// becomes n - 2 triangles, in file order): names in order of first use ("default" before
-// any usemtl), and per triangle an index into them.
 // A file's polygons of 4 or more corners as it lists them, for
 // resplit_polygons: where each one's triangles start once every face is
 // fanned (a face of k corners makes k - 2), its corners (0-based vertex
@@ -175,8 +172,11 @@ struct FilePolygons {
   }
 };
 
-// Also the faces' polygons (FilePolygons; an index counted back from the
-// vertices or texture coordinates read so far when negative).
+// The OBJ's usemtl name of each triangle OpenMesh makes (a face of n corners
+// becomes n - 2 triangles, in file order): names in order of first use ("default" before
+// any usemtl), and per triangle an index into them. Also the faces'
+// polygons (an index counted back from the vertices or texture coordinates
+// read so far when negative).
 struct ObjGroups {
   std::vector<std::string> names;
   std::vector<uint32_t> triangle_group;
@@ -189,7 +189,9 @@ ObjGroups obj_groups(const std::string& path) {
   int vertices = 0;
   std::vector<glm::vec2> texcoords;
   // A 1-based OBJ index, or a negative one counted back from `count`, to 0-based; -1 if out of range.
-  auto resolve = [](long i, int count) { return i > 0 && i <= count ? int(i - 1) : i < 0 && -i <= count ? int(count + i) : -1; };
+  auto resolve = [](long i, int count) {
+    return i > 0 && i <= count ? int(i - 1) : i < 0 && -i <= count ? int(count + i) : -1;
+  };
   std::ifstream in(path);
   for (std::string line; std::getline(in, line);) {
     std::istringstream words(line);
@@ -215,12 +217,10 @@ ObjGroups obj_groups(const std::string& path) {
       continue;
     }
     if (keyword != "f") continue;
-    int corners = 0;
     std::vector<int> face;
     std::vector<glm::vec2> uv;
     bool all_uv = true;
     for (std::string t; words >> t && t[0] != '#';) {
-      ++corners;
       // "v", "v/vt", "v//vn", "v/vt/vn"
       face.push_back(resolve(std::strtol(t.c_str(), nullptr, 10), vertices));
       const size_t slash = t.find('/');
@@ -231,6 +231,7 @@ ObjGroups obj_groups(const std::string& path) {
       if (all_uv) uv.push_back(texcoords[size_t(vt)]);
     }
     if (!all_uv) uv.clear();
+    const int corners = int(face.size());
     g.polygons.add(std::move(face), std::move(uv));
     if (!named) {
       g.names.insert(g.names.begin(), "default");
@@ -359,8 +360,8 @@ glm::vec3 TriangleMesh::colour(size_t triangle, glm::dvec3 bary) const {
 namespace {
 
 // The positions and faces (fanned from their first corner; the polygons
-// into `polygons`) of an ASCII OFF file the screen accepted (screen_off: vertex lines of 3 or more numbers,
-// face lines of a count, that many indices below the vertex count and at
+// into `polygons`) of an ASCII OFF file the screen accepted (screen_off:
+// vertex lines of 3 or more numbers, face lines of a count, that many indices below the vertex count and at
 // most 4 colour numbers), colours not read; nullopt for the 4OFF and nOFF
 // forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
 // faces: it misreads face colours in a plain OFF file (libcgal-demo's
