@@ -37,9 +37,20 @@ Image read_image(const std::string& path, uint64_t max_pixels, const std::string
   image.channels = spec.channelnames;
   image.channels.resize(size_t(spec.nchannels));  // one name per channel, whatever the file says
   image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    throw ImageError(path + ": cannot read: " + codec::one_line(in->geterror()));
+  // A scanline file is read one row at a time: OpenImageIO 2.4's read_image
+  // converts through a buffer of 256 rows whatever the image's height, so a
+  // header of 1111111 x 4 pixels asked for 3.4 GB (a 105-byte .hdr found by
+  // the environment fuzz target, tests/fuzz/regressions/environment/). A
+  // tiled file's buffer is bounded by its tiles.
+  const size_t row = size_t(spec.width) * size_t(spec.nchannels);
+  bool read = true;
+  if (spec.tile_width == 0) {
+    for (int y = 0; y < spec.height && read; ++y)
+      read = in->read_scanline(spec.y + y, spec.z, OIIO::TypeDesc::FLOAT, image.pixels.data() + size_t(y) * row);
+  } else {
+    read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data());
   }
+  if (!read) throw ImageError(path + ": cannot read: " + codec::one_line(in->geterror()));
   const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   const std::string description = spec.get_string_attribute("ImageDescription");
   if (integer && description.rfind(codec::kFilmPrefix, 0) == 0)

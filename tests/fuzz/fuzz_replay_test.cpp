@@ -9,6 +9,9 @@
 #include "fuzz_targets.h"
 #include "render/temp_dir.h"
 
+// tests/fuzz/allocation_cap.cpp: the largest operator new since the last call.
+size_t svo_fuzz_largest_allocation_and_reset();
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -77,7 +80,12 @@ TEST(Fuzz, RegressionInputsGiveTheirOutcome) {
       const bool accepted = name.rfind("accepted-", 0) == 0;
       ASSERT_TRUE(accepted || name.rfind("refused-", 0) == 0) << "name must start accepted- or refused-: " << name;
       auto bytes = bytes_of(entry.path());
+      svo_fuzz_largest_allocation_and_reset();
       EXPECT_EQ(svo::fuzz::run_target(target, bytes.data(), bytes.size()), accepted ? 1 : 0) << entry.path();
+      // Bounded memory: every input here is at most a few kilobytes, and the
+      // pixels its header may state (at most 1111111 x 4 RGB, 53 MB) are
+      // bounded by the budgets; a buffer sized by anything else is a finding.
+      EXPECT_LE(svo_fuzz_largest_allocation_and_reset(), size_t(256) << 20) << entry.path();
       ++seen;
     }
   }
