@@ -40,6 +40,7 @@ struct LightingOptions {
   float env_scale = 1;   // --env-scale S
   std::string material;  // --material FILE.json
   bool env_shadows = false;
+  bool env_preconvolved = false;  // --env-preconvolved
 };
 
 // The lobe-aware filter and upsampling (Tokuyoshi 2015, DESIGN 10.5):

@@ -143,6 +143,32 @@ uint32_t append_distribution(const std::vector<float>& f, uint32_t nu, uint32_t 
   return offset;
 }
 
+// The pre-convolved maps (environment.glsl, svo_env_preconvolved): the
+// level count, the first level's sharpness, then width, height and offset
+// (uint bits) of each level and of the irradiance, then their texels.
+uint32_t append_preconvolved(const PreconvolvedEnvironment& pre, std::vector<float>& tables) {
+  const auto offset = uint32_t(tables.size());
+  const size_t n = pre.levels.size();
+  tables.push_back(float(n));
+  tables.push_back(pre.levels.front().sharpness);
+  const size_t directory = tables.size();
+  tables.resize(directory + 3 * (n + 1));
+  for (size_t k = 0; k <= n; ++k) {
+    const PreconvolvedEnvironment::Level& level = k < n ? pre.levels[k] : pre.irradiance;
+    tables[directory + 3 * k] = float(level.width);
+    tables[directory + 3 * k + 1] = float(level.height);
+    tables[directory + 3 * k + 2] = std::bit_cast<float>(uint32_t(tables.size()));
+    tables.insert(tables.end(), level.rgb.begin(), level.rgb.end());
+  }
+  return offset;
+}
+
+uint32_t shade_flags(const ShadingOptions& o, bool light_shadows) {
+  return (o.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
+         (light_shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u) |
+         (o.preconvolved && o.environment ? svo::math::SVO_SHADE_PRECONVOLVED : 0u);
+}
+
 uint32_t append_environment_distribution(const Environment& env, std::vector<float>& tables) {
   std::vector<float> f(size_t(env.width) * env.height);
   for (uint32_t y = 0; y < env.height; ++y) {
@@ -380,6 +406,7 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     t.floats.insert(t.floats.end(), env.rgb.begin(), env.rgb.end());
     p.env.w = append_environment_distribution(env, t.floats);
     p.env_xform = glm::vec4(glm::radians(o.env_rotate_deg), o.env_scale, 0, 0);
+    if (o.preconvolved) p.env_xform.z = std::bit_cast<float>(append_preconvolved(*o.preconvolved, t.floats));
   }
   // A measured BRDF's tables, once per material: its values, sampling
   // tables and SG fit (lobe_filter.glsl: count, then sharpness and
@@ -402,9 +429,7 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
   p.diffuse = glm::vec4(m.diffuse, m.roughness);
   p.specular = glm::vec4(m.f0, m.exponent);
   p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed,
-                          (o.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
-                              (light_shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
-                          0);
+                          shade_flags(o, light_shadows), 0);
   if (scene && o.scene_materials.size() > 1) {
     // The scene's table (svo_scene_material): records after every MERL table.
     std::vector<std::array<uint32_t, 3>> merl(o.scene_materials.size());

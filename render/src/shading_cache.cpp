@@ -20,13 +20,15 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
   // Nothing at all: the built-in one, the Beckmann lobe of --specular
   // with the file's (or --roughness's) micro-BRDF slope variance.
   const Material fallback = builtin_material(ctx.settings.specular, octree.params(ctx.settings).material.x);
-  const bool same = valid_ && environment_ == options.environment && material_ == options.material &&
+  const bool same = valid_ && environment_ == options.environment && preconvolved_ == options.preconvolved &&
+                    material_ == options.material &&
                     (options.material || !scene_materials_.empty() ||
                      (default_material_.f0 == fallback.f0 && default_material_.roughness == fallback.roughness));
   // Scene materials given in the options (not the octree's) are compared by identity too.
   if (!same || ctx.settings.shading.scene_materials != given_scene_) {
     tables_ = build_shading_tables(options, fallback, ctx.settings.shadows);
     environment_ = options.environment;
+    preconvolved_ = options.preconvolved;
     material_ = options.material;
     default_material_ = fallback;
     given_scene_ = ctx.settings.shading.scene_materials;
@@ -35,10 +37,9 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
     floats_.reset();
   }
   ShadingTables& t = tables_;
-  t.params.env_xform = glm::vec4(glm::radians(options.env_rotate_deg), options.env_scale, 0, t.params.env_xform.w);
-  t.params.sampling = glm::uvec4(std::max(options.spp, 1u), options.seed,
-                                 (options.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
-                                     (ctx.settings.shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u),
+  t.params.env_xform.x = glm::radians(options.env_rotate_deg);
+  t.params.env_xform.y = options.env_scale;
+  t.params.sampling = glm::uvec4(std::max(options.spp, 1u), options.seed, shade_flags(options, ctx.settings.shadows),
                                  t.params.sampling.w);
   return t;
 }

@@ -34,6 +34,7 @@ class ShadingCache {
   // What the tables were built from, held so that a new object cannot
   // take a freed one's address and pass for it.
   std::shared_ptr<const Environment> environment_;
+  std::shared_ptr<const PreconvolvedEnvironment> preconvolved_;
   std::shared_ptr<const Material> material_;
   Material default_material_;
   const octree::Octree* scene_ = nullptr;  // whose materials scene_materials_ holds

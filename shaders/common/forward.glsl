@@ -20,6 +20,7 @@
 #include "gbuffer.glsl"
 #include "material.glsl"
 #include "sequence.glsl"
+#include "sg.glsl"
 #include "shading.glsl"
 #include "visibility.glsl"
 
@@ -142,9 +143,61 @@ SVO_FN float svo_forward_visible(SvoShadingPoint p, vec3 l, float dist, float sp
   return svo_visibility(p.position, l, dist, p.radius, spread, dot(p.n, l), SVO_MODE_PREFILTERED).visible;
 }
 
+// The lights' share for one lobe.
+SVO_FN SvoForwardSum svo_forward_lights(SvoShadingPoint p, SvoLobe lobe, bool shadows) {
+  SvoForwardSum sum;
+  sum.diffuse = vec3(0.0f);
+  sum.specular = vec3(0.0f);
+  for (uint k = 0u; k < params.tree.w; ++k) {
+    SvoLightSample light = svo_light_at(k, p.position);
+    SvoForwardSum f = svo_forward_brdf_cos(p, lobe, light.l);
+    vec3 e = light.e;
+    if (svo_forward_sum_total(f) > 0.0f && shadows) e *= svo_forward_visible(p, light.l, light.dist, light.spread);
+    sum = svo_forward_madd(sum, f, e);
+  }
+  return sum;
+}
+
+// Pre-convolved shading (SVO_SHADE_PRECONVOLVED) of one material, times
+// `share`, without samples: the diffuse part is the voxel's colour seen
+// from the eye (abar with Smith masking) times the albedo times the
+// irradiance over pi; the specular part the reflection lobe (the NDF's SG
+// widened by the voxel slopes, about reflect(-v, n), svo_reflection_lobe)
+// looked up in the environment pre-convolved at its sharpness, times
+// Fresnel at n.v. With environment shadows each part is seen through one
+// cone: the specular along the lobe's axis as wide as its deviation, the
+// diffuse along the normal, a radian wide. An approximation (no shadowing
+// or masking in the specular's albedo, the lobe's shape an SG), measured
+// against the sampled pass in docs/RESULTS.md. Lights as in the sampled
+// pass, through the material's lobe without a drawn slope.
+SVO_FN SvoForwardSum svo_forward_preconvolved(SvoShadingPoint p, SvoMaterial mat, float share) {
+  bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
+  SvoForwardSum r = svo_forward_lights(p, svo_sample_lobe(p, mat, vec2(0.0f)),
+                                       (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u);
+  vec3 irradiance = svo_env_irradiance(shade, p.n);
+  if (env_shadows && irradiance.x + irradiance.y + irradiance.z > 0.0f)
+    irradiance *= svo_forward_visible(p, p.n, 3.0e38f, 1.0f);
+  r.diffuse += svo_attribute_vl3(p.abar, p.a_s, p.lambda_v) * mat.diffuse * irradiance;
+  if (mat.kind != SVO_BRDF_LAMBERT) {
+    float lh = svo_ndf_sharpness(mat.kind, 0.5f * (mat.alpha2.x + mat.alpha2.y), mat.exponent,
+                                 0.5f * max(p.sn2.x + p.sn2.y, 0.0f));
+    SvoSG lobe = svo_reflection_lobe(p.n, p.v, lh);
+    vec3 l = svo_env_preconvolved(shade, lobe.axis, lobe.sharpness);
+    if (env_shadows && l.x + l.y + l.z > 0.0f)
+      l *= svo_forward_visible(p, lobe.axis, 3.0e38f, min(inversesqrt(max(lobe.sharpness, 1.0f)), 1.0f));
+    r.specular += svo_fresnel_schlick(mat.f0, abs(dot(p.n, p.v))) * l;
+  }
+  r.diffuse *= share;
+  r.specular *= share;
+  return r;
+}
+
 // The share of samples [first, first + count) of the radiance leaving the
 // G-buffer point towards the eye, diffuse and specular apart: their sum
 // over `spp` samples (the bandwidth-adaptive pass's per-pixel count).
+// Pre-convolved (SVO_SHADE_PRECONVOLVED): the whole of it in the share
+// holding sample 0, nothing in the others; measured BRDFs are still
+// sampled.
 SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first, uint count, uint spp) {
   SvoShadingPoint p = svo_shading_point(g);
   SvoMaterial first_material = svo_scene_material(g.material);
@@ -157,20 +210,27 @@ SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first
   SvoForwardSum sum;
   sum.diffuse = vec3(0.0f);
   sum.specular = vec3(0.0f);
+  if ((shade.sampling.z & SVO_SHADE_PRECONVOLVED) != 0u && first_material.kind != SVO_BRDF_MERL &&
+      second_material.kind != SVO_BRDF_MERL) {
+    if (first != 0u) return sum;
+    float share = mixed ? clamp(g.material_mix, 0.0f, 1.0f) : 1.0f;
+    sum = svo_forward_preconvolved(p, first_material, share);
+    if (mixed) {
+      SvoForwardSum b = svo_forward_preconvolved(p, second_material, 1.0f - share);
+      sum.diffuse += b.diffuse;
+      sum.specular += b.specular;
+    }
+    return sum;
+  }
   for (uint i = first; i < min(first + count, spp); ++i) {
     // Where the pixel shows two materials, each sample shades one of them,
     // drawn by its share: the estimate of their mix.
     bool second = mixed && svo_sample_1d(pixel, seed, i, 7u) >= g.material_mix;
     SvoLobe lobe = svo_sample_lobe(p, second ? second_material : first_material, svo_sample_2d(pixel, seed, i, 0u));
     vec3 vs = svo_to_lobe(lobe, p.v);
-    for (uint k = 0u; k < params.tree.w; ++k) {
-      SvoLightSample light = svo_light_at(k, p.position);
-      SvoForwardSum f = svo_forward_brdf_cos(p, lobe, light.l);
-      vec3 e = light.e;
-      if (svo_forward_sum_total(f) > 0.0f && light_shadows)
-        e *= svo_forward_visible(p, light.l, light.dist, light.spread);
-      sum = svo_forward_madd(sum, f, e);
-    }
+    SvoForwardSum lit = svo_forward_lights(p, lobe, light_shadows);
+    sum.diffuse += lit.diffuse;
+    sum.specular += lit.specular;
     if (shade.env.y == 0u) continue;
     // One sample of the material's lobes.
     vec4 b = svo_sample_material(lobe.mat, p.abar, vs,

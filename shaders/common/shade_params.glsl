@@ -17,10 +17,12 @@ SVO_CONST uint SVO_BRDF_MERL = 4u;
 // Sampling flags (SvoShadeParams::sampling.z).
 SVO_CONST uint SVO_SHADE_ENV_SHADOWS = 1u;  // environment samples see visibility cones through the octree
 SVO_CONST uint SVO_SHADE_LIGHT_SHADOWS = 2u;  // so do the lights
+SVO_CONST uint SVO_SHADE_PRECONVOLVED = 4u;  // the environment looked up pre-convolved (forward.glsl), no samples
 
 struct SvoShadeParams {
   uvec4 env;        // x: width, y: height (0: no environment), z: table offset of the rgb texels, w: of the distribution
-  vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, z: unused, w: table offset of a
+  vec4 env_xform;   // x: rotation about +Y (radians), y: radiance scale, z: table offset of the pre-convolved
+                    // maps (uint bits; environment.glsl, svo_env_preconvolved), w: table offset of a
                     // measured BRDF's SG fit (uint bits; 0: none; lobe_filter.glsl)
   uvec4 material;   // x: kind (SVO_BRDF_*), y: table offset of a measured BRDF's values, z: of its sampling tables,
                     // w: the scene's materials in the table (0: this one alone; svo_scene_material)

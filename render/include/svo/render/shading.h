@@ -51,6 +51,28 @@ Environment constant_environment(glm::vec3 radiance, uint32_t width = 16, uint32
 // @throw std::runtime_error "environment: SOURCE: why"
 void validate_environment(const Environment& env);
 
+// The environment pre-convolved (shaders/common/environment.glsl,
+// svo_env_preconvolved): latitude-longitude maps of the radiance convolved
+// with normalised spherical Gaussians exp(lambda (cos - 1)) of sharpness
+// lambda = 1, 2, 4, ... (a Phong lobe cos^e is close to the SG of sharpness
+// e), each at about two texels per lobe deviation 1/sqrt(lambda) and at
+// most the map's own size, up to the sharpness whose lobe spans two of the
+// map's texels; and the irradiance over pi (the clamped cosine, normalised),
+// what a Lambert surface reflects. Built once per map (a second or two for
+// a 1024x512 map on 2 cores): shading then looks a pixel's whole lobe up
+// without samples (Bagher et al. 2013's pre-convolved shading; the smooth
+// specular input of Tokuyoshi 2015's upsampling).
+struct PreconvolvedEnvironment {
+  struct Level {
+    uint32_t width = 0, height = 0;
+    float sharpness = 0;     // 0: the irradiance over pi
+    std::vector<float> rgb;  // width * height * 3, row 0 at +Y, as Environment
+  };
+  std::vector<Level> levels;  // sharpness 1, 2, 4, ... doubling
+  Level irradiance;
+};
+PreconvolvedEnvironment preconvolve_environment(const Environment& env);
+
 enum class BrdfKind : uint32_t { Lambert = 0, Beckmann = 1, Ggx = 2, Phong = 3, Merl = 4 };
 const char* brdf_name(BrdfKind kind);  // "lambert", ...
 
@@ -123,6 +145,11 @@ struct ShadingOptions {
   uint32_t spp = 16;  // samples per pixel of the forward pass, >= 1
   uint32_t seed = 1;
   bool env_shadows = false;  // environment samples see visibility cones through the octree
+  // Non-null (with `environment`, pre-convolved from it): the environment's
+  // light by one lookup per material lobe at the lobe's width instead of
+  // samples (forward.glsl, svo_forward_preconvolved), seen through one cone
+  // along the lobe when env_shadows is set. Lights are still evaluated.
+  std::shared_ptr<const PreconvolvedEnvironment> preconvolved;
 };
 
 // The bandwidth-adaptive pass's parameters (render::AdaptivePass; Bagher
@@ -176,6 +203,8 @@ struct ShadingTables {
 // `default_material` is used when options.material is null and the scene
 // has no materials; light_shadows sets SVO_SHADE_LIGHT_SHADOWS.
 ShadingTables build_shading_tables(const ShadingOptions& options, const Material& default_material, bool light_shadows);
+// SvoShadeParams::sampling.z of these options (SVO_SHADE_*).
+uint32_t shade_flags(const ShadingOptions& options, bool light_shadows);
 
 // The environment's texels as a piecewise-constant distribution of their
 // luminance times sin(theta), appended to `tables`; returns its offset.
