@@ -31,27 +31,49 @@ struct LatLong {
   }
 };
 
+// The overlaps of n target cells with m source cells over the same span:
+// for each target cell, (source index, share of the source cell inside it).
+std::vector<std::vector<std::pair<uint32_t, double>>> overlaps(uint32_t m, uint32_t n) {
+  std::vector<std::vector<std::pair<uint32_t, double>>> out(n);
+  for (uint32_t t = 0; t < n; ++t) {
+    const double a = double(t) * m / n, b = double(t + 1) * m / n;
+    for (uint32_t s = uint32_t(a); s < m && double(s) < b; ++s) {
+      const double share = std::min(b, double(s + 1)) - std::max(a, double(s));
+      if (share > 1e-12) out[t].push_back({s, share});
+    }
+  }
+  return out;
+}
+
 // The map resampled to width x height (at most its own) by area: each
-// source texel adds to the target texel holding its centre, weighted by
-// its solid angle (sin theta).
+// target texel the mean of the source over its extent, weighted by solid
+// angle (sin theta), so that a bright texel keeps its place.
 LatLong resample(const Environment& env, uint32_t width, uint32_t height) {
+  const auto across = overlaps(env.width, width), down = overlaps(env.height, height);
+  std::vector<double> rows(size_t(env.height) * width * 3, 0.0);  // columns resampled
+  for (uint32_t y = 0; y < env.height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      double total = 0;
+      for (const auto& [s, share] : across[x]) {
+        for (int k = 0; k < 3; ++k) rows[(size_t(y) * width + x) * 3 + k] += share * env.rgb[(size_t(y) * env.width + s) * 3 + k];
+        total += share;
+      }
+      for (int k = 0; k < 3; ++k) rows[(size_t(y) * width + x) * 3 + k] /= total;
+    }
   LatLong out;
   out.width = width;
   out.height = height;
   out.rgb.assign(size_t(width) * height * 3, 0.0f);
-  std::vector<double> acc(out.rgb.size(), 0.0), weight(size_t(width) * height, 0.0);
-  for (uint32_t y = 0; y < env.height; ++y) {
-    const double s = std::sin(M_PI * (y + 0.5) / env.height);
-    const uint32_t ty = uint32_t(uint64_t(y) * height / env.height);
-    for (uint32_t x = 0; x < env.width; ++x) {
-      const size_t t = size_t(ty) * width + uint64_t(x) * width / env.width;
-      const float* c = &env.rgb[(size_t(y) * env.width + x) * 3];
-      for (int k = 0; k < 3; ++k) acc[t * 3 + k] += s * c[k];
-      weight[t] += s;
+  for (uint32_t y = 0; y < height; ++y) {
+    double total = 0;
+    std::vector<double> sum(size_t(width) * 3, 0.0);
+    for (const auto& [s, share] : down[y]) {
+      const double w = share * std::sin(M_PI * (s + 0.5) / env.height);
+      for (size_t i = 0; i < sum.size(); ++i) sum[i] += w * rows[size_t(s) * width * 3 + i];
+      total += w;
     }
+    for (size_t i = 0; i < sum.size(); ++i) out.rgb[size_t(y) * width * 3 + i] = float(sum[i] / total);
   }
-  for (size_t t = 0; t < weight.size(); ++t)
-    for (int k = 0; k < 3; ++k) out.rgb[t * 3 + k] = weight[t] > 0 ? float(acc[t * 3 + k] / weight[t]) : 0.0f;
   out.directions();
   return out;
 }

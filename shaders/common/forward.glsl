@@ -158,22 +158,40 @@ SVO_FN SvoForwardSum svo_forward_lights(SvoShadingPoint p, SvoLobe lobe, bool sh
   return sum;
 }
 
+// The directional albedo of the lobe's specular part seen from vs (in
+// the lobe's frame): int f_s(v, l) l.z dl by 16 micronormals drawn from
+// D(m) m.z on a fixed 4 x 4 stratified grid, the same for every pixel, so
+// that it is smooth across the image (a deterministic quadrature; masking,
+// shadowing and Fresnel as the sampled pass has them).
+SVO_FN vec3 svo_specular_albedo(SvoMaterial mat, vec3 vs) {
+  vec3 sum = vec3(0.0f);
+  if (!(vs.z > 0.0f)) return sum;
+  for (uint k = 0u; k < 16u; ++k) {
+    vec3 m = svo_sample_microfacet(mat, vec2((float(k % 4u) + 0.5f) * 0.25f, (float(k / 4u) + 0.5f) * 0.25f));
+    float vm = dot(vs, m);
+    vec3 l = 2.0f * vm * m - vs;
+    float pdf = svo_material_ndf(mat, m) * m.z / max(4.0f * vm, 1.0e-6f);
+    if (vm > 0.0f && l.z > 0.0f && pdf > 0.0f) sum += svo_specular_lobe(mat, vs, l) * (l.z / pdf);
+  }
+  return sum * (1.0f / 16.0f);
+}
+
 // Pre-convolved shading (SVO_SHADE_PRECONVOLVED) of one material, times
 // `share`, without samples: the diffuse part is the voxel's colour seen
 // from the eye (abar with Smith masking) times the albedo times the
 // irradiance over pi; the specular part the reflection lobe (the NDF's SG
 // widened by the voxel slopes, about reflect(-v, n), svo_reflection_lobe)
-// looked up in the environment pre-convolved at its sharpness, times
-// Fresnel at n.v. With environment shadows each part is seen through one
+// looked up in the environment pre-convolved at its sharpness, times the
+// lobe's directional albedo (svo_specular_albedo). With environment shadows each part is seen through one
 // cone: the specular along the lobe's axis as wide as its deviation, the
-// diffuse along the normal, a radian wide. An approximation (no shadowing
-// or masking in the specular's albedo, the lobe's shape an SG), measured
+// diffuse along the normal, a radian wide. An approximation (the lobe's
+// shape an SG about the mirror direction, the diffuse without Smith's masking), measured
 // against the sampled pass in docs/RESULTS.md. Lights as in the sampled
 // pass, through the material's lobe without a drawn slope.
 SVO_FN SvoForwardSum svo_forward_preconvolved(SvoShadingPoint p, SvoMaterial mat, float share) {
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;
-  SvoForwardSum r = svo_forward_lights(p, svo_sample_lobe(p, mat, vec2(0.0f)),
-                                       (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u);
+  SvoLobe frame = svo_sample_lobe(p, mat, vec2(0.0f));  // the voxel slopes added, no slope drawn
+  SvoForwardSum r = svo_forward_lights(p, frame, (shade.sampling.z & SVO_SHADE_LIGHT_SHADOWS) != 0u);
   vec3 irradiance = svo_env_irradiance(shade, p.n);
   if (env_shadows && irradiance.x + irradiance.y + irradiance.z > 0.0f)
     irradiance *= svo_forward_visible(p, p.n, 3.0e38f, 1.0f);
@@ -185,7 +203,7 @@ SVO_FN SvoForwardSum svo_forward_preconvolved(SvoShadingPoint p, SvoMaterial mat
     vec3 l = svo_env_preconvolved(shade, lobe.axis, lobe.sharpness);
     if (env_shadows && l.x + l.y + l.z > 0.0f)
       l *= svo_forward_visible(p, lobe.axis, 3.0e38f, min(inversesqrt(max(lobe.sharpness, 1.0f)), 1.0f));
-    r.specular += svo_fresnel_schlick(mat.f0, abs(dot(p.n, p.v))) * l;
+    r.specular += svo_specular_albedo(frame.mat, svo_to_lobe(frame, p.v)) * l;
   }
   r.diffuse *= share;
   r.specular *= share;
