@@ -350,8 +350,7 @@ void run_lobe_bench(const LobeArgs& a) {
   auto upsampling = [&](std::vector<Scene> ups, const std::string& key, const std::string& title) {
     std::vector<std::unique_ptr<Runs>> runs;
     for (const Scene& scene : ups) runs.push_back(std::make_unique<Runs>(scene, a.device, a.reference_spp, 4));
-    md << title
-       << "| weight | parameter | " << ups[0].name << " | " << ups[1].name << " | " << ups[2].name << " | "
+    md << title << "| weight | parameter | " << ups[0].name << " | " << ups[1].name << " | " << ups[2].name << " | "
        << ups[2].name << ", recomputed under 0.25 | pixels shaded again |\n|---|---|---|---|---|---|---|\n";
     nlohmann::json up = nlohmann::json::array();
     std::vector<render::Frame> frames;
@@ -409,14 +408,17 @@ void run_lobe_bench(const LobeArgs& a) {
       md << "| normal, threshold matched to the lobe's share | sigma_n^2 " << tuned_normal.sigma_n2 << " | | | | "
          << sci(matched_mse) << " (under " << bench::fmt(matched, 2) << ") | " << bench::fmt(100.0 * matched_share, 1)
          << "% |\n";
-      results[key + "_normal_matched"] = {{"threshold", matched}, {"mse", matched_mse}, {"shaded_again", matched_share}};
+      results[key + "_normal_matched"] = {
+          {"threshold", matched}, {"mse", matched_mse}, {"shaded_again", matched_share}};
     }
     // frames: normal rough, sharp, mixed, mixed recomputed; then the same for lobe.
-    write_png(dir / (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png"), bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
-                                                        {&frames[2], &frames[6], &runs[2]->reference},
-                                                        {&frames[3], &frames[7], &runs[2]->reference}}));
+    write_png(dir / (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png"),
+              bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
+                            {&frames[2], &frames[6], &runs[2]->reference},
+                            {&frames[3], &frames[7], &runs[2]->reference}}));
     results[key] = up;
-    md << "\nStrip (`" << (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png") << "`), rows " << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
+    md << "\nStrip (`" << (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png") << "`), rows "
+       << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
        << " recomputed under 0.25; columns normal-aware, lobe-aware, reference.\n\n";
   };
   if (part(3)) {
@@ -436,7 +438,8 @@ void run_lobe_bench(const LobeArgs& a) {
     for (Scene& scene : ups) scene.settings.shading.preconvolved = pre;
     upsampling(ups, "fig14_preconvolved",
                "\n### 3b. Upsampling the pre-convolved specular from 1/4: one lookup per pixel at 1/4 of the size, "
-               "against the same lookup at the full size; parameters chosen on " + ups[0].name + " and kept\n\n");
+               "against the same lookup at the full size; parameters chosen on " +
+                   ups[0].name + " and kept\n\n");
   }
   save();
   // --- 5. The voxels' slopes as the lobe: the bumpy sphere seen from afar,

@@ -127,11 +127,13 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     reference::ReferenceSettings settings;
     settings.render.width = a->view.width;
     settings.render.height = a->view.height;
-    settings.render.camera = resolve_camera(a->view, camera, tree ? &*tree : nullptr, glm::length(bounds.hi - bounds.lo));
+    settings.render.camera =
+        resolve_camera(a->view, camera, tree ? &*tree : nullptr, glm::length(bounds.hi - bounds.lo));
     settings.render.shadows = a->view.shadows;
     settings.render.lights = make_lights(a->view, centre, settings.render.camera);
     if (a->lighting.env_preconvolved)
-      throw std::invalid_argument("--env-preconvolved is an approximation for svo render; the reference samples the map");
+      throw std::invalid_argument(
+          "--env-preconvolved is an approximation for svo render; the reference samples the map");
     apply_lighting(a->lighting, settings.render);
     // The luminaires about the octree's domain, else the source's bounds.
     if (tree) {

@@ -412,7 +412,8 @@ void apply_lighting(const LightingOptions& o, render::RenderSettings& settings) 
   s.env_shadows = o.env_shadows;
   if (o.env_preconvolved && !s.environment) throw std::invalid_argument("--env-preconvolved needs --env");
   if (o.env_preconvolved)
-    s.preconvolved = std::make_shared<const render::PreconvolvedEnvironment>(render::preconvolve_environment(*s.environment));
+    s.preconvolved =
+        std::make_shared<const render::PreconvolvedEnvironment>(render::preconvolve_environment(*s.environment));
   if (!o.material.empty()) s.material = std::make_shared<const render::Material>(render::load_material(o.material));
 }
 

@@ -55,7 +55,8 @@ LatLong resample(const Environment& env, uint32_t width, uint32_t height) {
     for (uint32_t x = 0; x < width; ++x) {
       double total = 0;
       for (const auto& [s, share] : across[x]) {
-        for (int k = 0; k < 3; ++k) rows[(size_t(y) * width + x) * 3 + k] += share * env.rgb[(size_t(y) * env.width + s) * 3 + k];
+        for (int k = 0; k < 3; ++k)
+          rows[(size_t(y) * width + x) * 3 + k] += share * env.rgb[(size_t(y) * env.width + s) * 3 + k];
         total += share;
       }
       for (int k = 0; k < 3; ++k) rows[(size_t(y) * width + x) * 3 + k] /= total;

@@ -428,8 +428,7 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
   p.env_xform.w = std::bit_cast<float>(offsets[2]);
   p.diffuse = glm::vec4(m.diffuse, m.roughness);
   p.specular = glm::vec4(m.f0, m.exponent);
-  p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed,
-                          shade_flags(o, light_shadows), 0);
+  p.sampling = glm::uvec4(std::max(o.spp, 1u), o.seed, shade_flags(o, light_shadows), 0);
   if (scene && o.scene_materials.size() > 1) {
     // The scene's table (svo_scene_material): records after every MERL table.
     std::vector<std::array<uint32_t, 3>> merl(o.scene_materials.size());
@@ -438,10 +437,18 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     p.sampling.w = uint32_t(t.floats.size());
     for (size_t i = 0; i < merl.size(); ++i) {
       const Material& s = *o.scene_materials[i];
-      const float record[svo::math::SVO_MATERIAL_FLOATS] = {
-          std::bit_cast<float>(uint32_t(s.kind)), std::bit_cast<float>(merl[i][0]), std::bit_cast<float>(merl[i][1]),
-          s.exponent, s.diffuse.x, s.diffuse.y, s.diffuse.z, s.roughness, s.f0.x, s.f0.y, s.f0.z,
-          std::bit_cast<float>(merl[i][2])};
+      const float record[svo::math::SVO_MATERIAL_FLOATS] = {std::bit_cast<float>(uint32_t(s.kind)),
+                                                            std::bit_cast<float>(merl[i][0]),
+                                                            std::bit_cast<float>(merl[i][1]),
+                                                            s.exponent,
+                                                            s.diffuse.x,
+                                                            s.diffuse.y,
+                                                            s.diffuse.z,
+                                                            s.roughness,
+                                                            s.f0.x,
+                                                            s.f0.y,
+                                                            s.f0.z,
+                                                            std::bit_cast<float>(merl[i][2])};
       t.floats.insert(t.floats.end(), std::begin(record), std::end(record));
     }
   }

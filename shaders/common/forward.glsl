@@ -182,11 +182,12 @@ SVO_FN vec3 svo_specular_albedo(SvoMaterial mat, vec3 vs) {
 // irradiance over pi; the specular part the reflection lobe (the NDF's SG
 // widened by the voxel slopes, about reflect(-v, n), svo_reflection_lobe)
 // looked up in the environment pre-convolved at its sharpness, times the
-// lobe's directional albedo (svo_specular_albedo). With environment shadows each part is seen through one
-// cone: the specular along the lobe's axis as wide as its deviation, the
-// diffuse along the normal, a radian wide. An approximation (the lobe's
-// shape an SG about the mirror direction, the diffuse without Smith's masking), measured
-// against the sampled pass in docs/RESULTS.md. Lights as in the sampled
+// lobe's directional albedo (svo_specular_albedo). With environment
+// shadows each part is seen through one cone: the specular along the
+// lobe's axis as wide as its deviation, the diffuse along the normal, a
+// radian wide. An approximation (the lobe's shape an SG about the mirror
+// direction, the diffuse without Smith's masking), measured against the
+// sampled pass in tests/gpu/forward_test.cpp. Lights as in the sampled
 // pass, through the material's lobe without a drawn slope.
 SVO_FN SvoForwardSum svo_forward_preconvolved(SvoShadingPoint p, SvoMaterial mat, float share) {
   bool env_shadows = (shade.sampling.z & SVO_SHADE_ENV_SHADOWS) != 0u;

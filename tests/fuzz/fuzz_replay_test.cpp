@@ -59,7 +59,8 @@ TEST(Fuzz, MutatedSeedsAreRefusedOrAccepted) {
         if (trial % 4 == 3) {
           bytes.resize(next() % (bytes.size() + 1));
         } else {
-          for (int k = 0; k < 1 + trial % 3 && bytes.size() > 2; ++k) bytes[2 + next() % (bytes.size() - 2)] = uint8_t(next());
+          for (int k = 0; k < 1 + trial % 3 && bytes.size() > 2; ++k)
+            bytes[2 + next() % (bytes.size() - 2)] = uint8_t(next());
         }
         refused += svo::fuzz::run_target(target, bytes.data(), bytes.size()) == 0;
         ++runs;

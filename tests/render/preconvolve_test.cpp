@@ -47,10 +47,12 @@ glm::dvec3 bilinear(const PreconvolvedEnvironment::Level& l, double u, double v)
 }
 
 TEST(Preconvolve, AConstantMapStaysConstantAtEveryLevel) {
-  const PreconvolvedEnvironment pre = preconvolve_environment(constant_environment(glm::vec3(0.5f, 1.0f, 2.0f), 64, 32));
+  const PreconvolvedEnvironment pre =
+      preconvolve_environment(constant_environment(glm::vec3(0.5f, 1.0f, 2.0f), 64, 32));
   ASSERT_GE(pre.levels.size(), 4u);
   EXPECT_EQ(pre.levels.front().sharpness, 1.0f);
-  for (size_t k = 0; k + 1 < pre.levels.size(); ++k) EXPECT_EQ(pre.levels[k + 1].sharpness, 2 * pre.levels[k].sharpness);
+  for (size_t k = 0; k + 1 < pre.levels.size(); ++k)
+    EXPECT_EQ(pre.levels[k + 1].sharpness, 2 * pre.levels[k].sharpness);
   for (size_t k = 0; k <= pre.levels.size(); ++k) {
     const auto& l = k < pre.levels.size() ? pre.levels[k] : pre.irradiance;
     ASSERT_EQ(l.rgb.size(), size_t(l.width) * l.height * 3);
@@ -88,8 +90,8 @@ TEST(Preconvolve, LevelsMatchQuadratureOfTheFullMap) {
       peak = std::max(peak, glm::length(want));
     }
     const double rel = std::sqrt(err2 / ref2);
-    std::printf("sharpness %6.0f (%ux%u): relative RMS error %.4f, worst %.4f of the peak %.3f\n", l.sharpness,
-                l.width, l.height, rel, worst / peak, peak);
+    std::printf("sharpness %6.0f (%ux%u): relative RMS error %.4f, worst %.4f of the peak %.3f\n", l.sharpness, l.width,
+                l.height, rel, worst / peak, peak);
     worst_relative = std::max(worst_relative, rel);
     EXPECT_LT(rel, 0.04) << "sharpness " << l.sharpness;
   }
