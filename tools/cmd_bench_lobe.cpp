@@ -412,12 +412,13 @@ void run_lobe_bench(const LobeArgs& a) {
           {"threshold", matched}, {"mse", matched_mse}, {"shaded_again", matched_share}};
     }
     // frames: normal rough, sharp, mixed, mixed recomputed; then the same for lobe.
-    write_png(dir / (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png"),
+    const std::string strip = key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png";
+    write_png(dir / strip,
               bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
                             {&frames[2], &frames[6], &runs[2]->reference},
                             {&frames[3], &frames[7], &runs[2]->reference}}));
     results[key] = up;
-    md << "\nStrip (`" << (key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png") << "`), rows "
+    md << "\nStrip (`" << strip << "`), rows "
        << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
        << " recomputed under 0.25; columns normal-aware, lobe-aware, reference.\n\n";
   };

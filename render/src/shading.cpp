@@ -437,18 +437,12 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     p.sampling.w = uint32_t(t.floats.size());
     for (size_t i = 0; i < merl.size(); ++i) {
       const Material& s = *o.scene_materials[i];
-      const float record[svo::math::SVO_MATERIAL_FLOATS] = {std::bit_cast<float>(uint32_t(s.kind)),
-                                                            std::bit_cast<float>(merl[i][0]),
-                                                            std::bit_cast<float>(merl[i][1]),
-                                                            s.exponent,
-                                                            s.diffuse.x,
-                                                            s.diffuse.y,
-                                                            s.diffuse.z,
-                                                            s.roughness,
-                                                            s.f0.x,
-                                                            s.f0.y,
-                                                            s.f0.z,
-                                                            std::bit_cast<float>(merl[i][2])};
+      // clang-format off
+      const float record[svo::math::SVO_MATERIAL_FLOATS] = {
+          std::bit_cast<float>(uint32_t(s.kind)), std::bit_cast<float>(merl[i][0]), std::bit_cast<float>(merl[i][1]),
+          s.exponent, s.diffuse.x, s.diffuse.y, s.diffuse.z, s.roughness, s.f0.x, s.f0.y, s.f0.z,
+          std::bit_cast<float>(merl[i][2])};
+      // clang-format on
       t.floats.insert(t.floats.end(), std::begin(record), std::end(record));
     }
   }
