@@ -10,7 +10,12 @@
 //      the forward estimator measured by brute force, and the predicted
 //      image bandwidth against a windowed FFT (32x32) of the reference;
 //   3. n_b = 16, 64, 256, 1024 (Fig. 13): PSNR and time;
-//   4. what the voxels' slope band-limit saves on the far view (ours).
+//   4. what the voxels' slope band-limit saves on the far view (ours);
+//   5. adaptive sampling for pre-convolved shading (section 2.5, Eq. 10,
+//      Fig. 16): adaptive frames against the map pre-convolved at the
+//      BRDF's sharpest lobe against adaptive frames of the map as it is
+//      (multiple importance sampling, and the paper's BRDF sampling alone),
+//      at equal relMSE.
 // Ground truth is `svo reference` (the source geometry, many samples), or
 // with --truth forward a converged forward frame of the same G-buffer
 // (shading error alone, without the octree's).
@@ -69,7 +74,7 @@ struct BandwidthBenchArgs {
   uint32_t variance_frames = 32;
   uint32_t repeats = 2;
   uint32_t directions = render::AdaptiveOptions{}.directions;  // n_b of parts 1, 2 and 4
-  std::vector<uint32_t> parts{1, 2, 3, 4};
+  std::vector<uint32_t> parts{1, 2, 3, 4};                     // part 5 on request
   std::string out = "bench-bandwidth";
 };
 
@@ -90,7 +95,9 @@ std::shared_ptr<const render::Material> bench_material(const std::string& name) 
     m->diffuse = glm::vec3(0.05f);
     m->f0 = glm::vec3(0.9f, 0.8f, 0.6f);
   } else {
-    return std::make_shared<const render::Material>(render::load_material(name));
+    render::Material loaded = render::load_material(name);
+    if (loaded.name.empty() || loaded.name == "default") loaded.name = fs::path(name).stem().string();
+    return std::make_shared<const render::Material>(std::move(loaded));
   }
   return m;
 }
@@ -198,6 +205,39 @@ render::Frame false_colour(const std::vector<float>& v, uint32_t w, uint32_t h, 
 
 void save_png(const fs::path& path, const render::Frame& f) { render::write_colour(path.string(), f); }
 
+// A frame of `ms` against a baseline curve at equal error, as two table
+// cells (the baseline's time at that error; the speed-up) and the speed-up
+// it claims (0: none). Errors within the noise of a baseline frame's
+// (bench_tie.h) tie and claim nothing; below the curve's smallest error
+// beyond the noise, the curve's slowest time over ours is a lower bound
+// (">=").
+struct ClaimCells {
+  std::string at, speedup;
+  double factor = 0;
+};
+
+ClaimCells claim_cells(double ms, double error, const std::vector<bench::CostErrorPoint>& curve) {
+  const bench::EqualErrorClaim claim = bench::claim_at_equal_error(ms, error, curve);
+  using Kind = bench::EqualErrorClaim::Kind;
+  ClaimCells c;
+  switch (claim.kind) {
+    case Kind::Speedup:
+      c = {bench::fmt(claim.factor * ms, 0), bench::fmt(claim.factor, 2) + "x", claim.factor};
+      break;
+    case Kind::AtLeast:
+      c = {"below the sweep's best", ">= " + bench::fmt(claim.factor, 2) + "x", claim.factor};
+      break;
+    case Kind::Tie:
+      c = {"ties " + claim.against + " (" + sci(claim.against_error) + ")",
+           "tie (" + bench::fmt(claim.factor * ms, 0) + " ms there)", 0};
+      break;
+    case Kind::Worse:
+      c = {"outside the sweep", "-", 0};
+      break;
+  }
+  return c;
+}
+
 void run_bandwidth_bench(const BandwidthBenchArgs& a) {
   fs::path dir(a.out);
   fs::create_directories(dir);
@@ -234,6 +274,15 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
     for (const std::string& env_path : a.envs) {
       auto env = std::make_shared<const render::Environment>(render::load_environment(env_path));
       const std::string env_name = fs::path(env_path).stem().string();
+      // Part 5's map, pre-convolved once per map (its time stated).
+      std::shared_ptr<const render::PreconvolvedEnvironment> preconvolved;
+      double preconvolve_ms = 0;
+      if (wants(5)) {
+        bar.update(env_name + ": pre-convolving the map", 0);
+        const auto t0 = std::chrono::steady_clock::now();
+        preconvolved = std::make_shared<const render::PreconvolvedEnvironment>(render::preconvolve_environment(*env));
+        preconvolve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      }
       for (const std::string& material_name : a.materials) {
         const auto material = bench_material(material_name);
         const std::string label = scene.name + " / " + material->name + " / " + env_name;
@@ -259,7 +308,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           truth = forward->render(t);
         }
         save_png(dir / (scene.name + "-" + material->name + "-" + env_name + "-truth.png"), truth);
-        if (!wants(1) && !wants(2) && !wants(3) && !wants(4)) continue;
+        if (!wants(1) && !wants(2) && !wants(3) && !wants(4) && !wants(5)) continue;
         const bool first = &env_path == &a.envs.front() && &material_name == &a.materials.front();
 
         // Part 1: the headline.
@@ -318,29 +367,12 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           std::vector<bench::CostErrorPoint> curve;
           for (const Point& p : fwd) curve.push_back({"forward " + bench::fmt(p.knob, 0) + " spp", p.ms, p.relmse});
           for (const Point& p : ad) {
-            // Errors within the noise of a forward frame's (bench_tie.h): a
-            // tie, no speed-up claimed. Below the sweep's smallest error
-            // beyond the noise: at least the most accurate forward frame's
-            // time over this one's (a lower bound, marked ">=").
-            const bench::EqualErrorClaim claim = bench::claim_at_equal_error(p.ms, p.relmse, curve);
-            using Kind = bench::EqualErrorClaim::Kind;
-            const bool at = claim.kind == Kind::Speedup, beyond = claim.kind == Kind::AtLeast,
-                       tie = claim.kind == Kind::Tie;
-            const double speedup = at || beyond ? claim.factor : 0;
-            (p.method == "bound" ? best_bound : best_measured) =
-                std::max(p.method == "bound" ? best_bound : best_measured, speedup);
+            const ClaimCells claim = claim_cells(p.ms, p.relmse, curve);
+            double& best = p.method == "bound" ? best_bound : best_measured;
+            best = std::max(best, claim.factor);
             md << "| adaptive (" << p.method << ") | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | "
-               << sci(p.relmse) << " | "
-               << (at       ? bench::fmt(claim.factor * p.ms, 0)
-                   : beyond ? "below the sweep's best"
-                   : tie    ? "ties " + claim.against + " (" + sci(claim.against_error) + ")"
-                            : "outside the sweep")
-               << " | "
-               << (at       ? bench::fmt(speedup, 2) + "x"
-                   : beyond ? ">= " + bench::fmt(speedup, 2) + "x"
-                   : tie    ? "tie (" + bench::fmt(claim.factor * p.ms, 0) + " ms there)"
-                            : "-")
-               << " | " << bench::fmt(100 * p.bandwidth_ms / p.ms, 1) << "% | "
+               << sci(p.relmse) << " | " << claim.at << " | " << claim.speedup << " | "
+               << bench::fmt(100 * p.bandwidth_ms / p.ms, 1) << "% | "
                << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
                << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1) << " |\n";
           }
@@ -367,6 +399,93 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           md.save();
           csv.save();
         }
+        // Part 5: adaptive sampling for pre-convolved shading (section 2.5,
+        // Eq. 10, Fig. 16): adaptive frames against the pre-convolved map
+        // (a measured BRDF sampled from itself, each sample reading the map
+        // at its sharpest lobe; analytic lobes looked up once) against
+        // adaptive frames of the map as it is, sampled with multiple
+        // importance sampling (ours) and from the BRDF alone (the paper's
+        // baseline), all with the measured variance, at equal relMSE.
+        if (wants(5)) {
+          const bool measured_brdf = material->kind == render::BrdfKind::Merl;
+          const std::vector<float> taus = a.taus.empty() ? std::vector<float>{0.03f, 0.01f, 0.003f} : a.taus;
+          const std::vector<std::string> methods{"mis", "brdf", "pre-convolved"};
+          std::vector<std::vector<Point>> points(methods.size());
+          for (size_t m = 0; m < methods.size(); ++m) {
+            const bool pre = methods[m] == "pre-convolved";
+            // Analytic lobes against the pre-convolved map take one lookup
+            // whatever tau is: one frame.
+            const size_t count = pre && !measured_brdf ? 1 : taus.size();
+            for (size_t k = 0; k < count; ++k) {
+              bar.update(label + ": " + methods[m] + " tau " + sci(taus[k]), double(k) / double(count));
+              render::RenderSettings t = s;
+              t.adaptive.tau = taus[k];
+              t.adaptive.measured_variance = true;
+              t.shading.brdf_sampling = methods[m] == "brdf";
+              if (pre) t.shading.preconvolved = preconvolved;
+              Point p{methods[m], taus[k]};
+              const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, p.ms);
+              p.relmse = relmse(f, truth);
+              const auto& st = adaptive->stats();
+              p.bandwidth_ms = st.bandwidth_ms;
+              p.shaded = st.shaded;
+              p.samples = st.samples;
+              p.covered = st.covered;
+              points[m].push_back(p);
+              if (k == count / 2)
+                save_png(dir / (scene.name + "-" + material->name + "-" + env_name + "-fig16-" + methods[m] + ".png"),
+                         f);
+            }
+          }
+          std::vector<std::vector<bench::CostErrorPoint>> curves(2);
+          for (size_t m = 0; m < 2; ++m)
+            for (const Point& p : points[m]) curves[m].push_back({methods[m] + " tau " + sci(p.knob), p.ms, p.relmse});
+          md << "### Pre-convolved shading (Eq. 10, Fig. 16): " << label << "\n\nThe map pre-convolved once in "
+             << bench::fmt(preconvolve_ms, 0) << " ms (not in the frame times). "
+             << (measured_brdf ? "The measured BRDF is sampled from itself against the map pre-convolved at its "
+                                 "sharpest lobe."
+                               : "Analytic lobes: one lookup per lobe, no samples, one frame.")
+             << "\n\n| method | tau | ms | relMSE | samples / covered px | mis ms at that relMSE | vs mis | "
+                "brdf ms at that relMSE | vs brdf |\n|---|---|---|---|---|---|---|---|---|\n";
+          double best[2] = {0, 0};
+          nlohmann::json row{{"scene", scene.name},
+                             {"material", material->name},
+                             {"env", env_name},
+                             {"preconvolve_ms", preconvolve_ms},
+                             {"measured_brdf", measured_brdf}};
+          for (size_t m = 0; m < methods.size(); ++m) {
+            for (const Point& p : points[m]) {
+              md << "| " << p.method << " | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse)
+                 << " | " << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1);
+              nlohmann::json point{{"method", p.method}, {"tau", p.knob},        {"ms", p.ms},
+                                   {"relmse", p.relmse}, {"samples", p.samples}, {"covered", p.covered}};
+              for (size_t b = 0; b < 2; ++b) {
+                if (m < 2) {
+                  md << " | | ";
+                  continue;
+                }
+                const ClaimCells claim = claim_cells(p.ms, p.relmse, curves[b]);
+                best[b] = std::max(best[b], claim.factor);
+                md << " | " << claim.at << " | " << claim.speedup;
+                point[std::string("speedup_vs_") + methods[b]] = claim.factor;
+              }
+              md << " |\n";
+              row["points"].push_back(point);
+              csv << "5," << scene.name << "," << material->name << "," << env_name << "," << p.method << "," << p.knob
+                  << "," << p.ms << "," << p.relmse << "," << p.bandwidth_ms << "," << p.shaded << "," << p.samples
+                  << "," << p.covered << "\n";
+            }
+          }
+          md << "\nBest speed-up of the pre-convolved frames at equal relMSE: " << bench::fmt(best[0], 2)
+             << "x against mis, " << bench::fmt(best[1], 2) << "x against brdf (0: none beyond the noise within the "
+             << "sweep).\n\n";
+          row["best_speedup_vs_mis"] = best[0];
+          row["best_speedup_vs_brdf"] = best[1];
+          json["preconvolved"].push_back(row);
+          md.save();
+          csv.save();
+        }
+
         // Parts 2-4: the first material and map of the first scene.
         if (!first || si != 0) continue;
 
@@ -575,7 +694,8 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
       "bandwidth",
       "Bagher et al. 2013's figures on the engine: adaptive against forward shading at equal relMSE against ground "
       "truth (Figs. 11, 14) with the bandwidth buffer's share, validation of the predicted variance and bandwidth "
-      "(Fig. 12, images of Fig. 1b-d), n_b (Fig. 13) and the voxels' slope band-limit; writes table.md, "
+      "(Fig. 12, images of Fig. 1b-d), n_b (Fig. 13), the voxels' slope band-limit and pre-convolved shading "
+      "(Eq. 10, Fig. 16); writes table.md, "
       "results.csv, results.json and images to --out");
   cmd->add_option("--scenes", a->scenes, "Built-in scenes or mesh files (OFF, OBJ, PLY, ...)")
       ->delimiter(',')
@@ -596,8 +716,8 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 65536u));
   cmd->add_option("--taus", a->taus,
-                  "Part 1: the adaptive sweep's tau (default: 10, 30, 100 with Eq. 9's bound; 0.003, 0.01, 0.03 with "
-                  "the measured variance)")
+                  "Parts 1 and 5: the adaptive sweep's tau (default: 10, 30, 100 with Eq. 9's bound; 0.003, 0.01, "
+                  "0.03 with the measured variance, part 5's)")
       ->delimiter(',')
       ->check(CLI::Range(1e-9f, 1e9f));
   cmd->add_option("--truth", a->truth,
@@ -618,11 +738,12 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--parts", a->parts,
-                  "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit); parts "
-                  "2-4 run on the first scene's first material and map")
+                  "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit), 5 "
+                  "(pre-convolved shading, Eq. 10, Fig. 16: give MERL materials); parts 2-4 run on the first "
+                  "scene's first material and map")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1u, 4u));
+      ->check(CLI::Range(1u, 5u));
   cmd->add_option("-o,--out", a->out, "Output directory (created)")->capture_default_str();
   cmd->callback([a, &exit_code] {
     run_bandwidth_bench(*a);

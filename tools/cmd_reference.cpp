@@ -134,6 +134,8 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     if (a->lighting.env_preconvolved)
       throw std::invalid_argument(
           "--env-preconvolved is an approximation for svo render; the reference samples the map");
+    if (a->lighting.env_sampling != "mis")
+      throw std::invalid_argument("--env-sampling is svo render's; the reference samples the map its own way");
     apply_lighting(a->lighting, settings.render);
     // The luminaires about the octree's domain, else the source's bounds.
     if (tree) {

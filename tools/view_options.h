@@ -41,6 +41,7 @@ struct LightingOptions {
   std::string material;  // --material FILE.json
   bool env_shadows = false;
   bool env_preconvolved = false;  // --env-preconvolved
+  std::string env_sampling = "mis";  // --env-sampling mis|brdf
 };
 
 // The lobe-aware filter and upsampling (Tokuyoshi 2015, DESIGN 10.5):

@@ -166,7 +166,8 @@ uint32_t append_preconvolved(const PreconvolvedEnvironment& pre, std::vector<flo
 uint32_t shade_flags(const ShadingOptions& o, bool light_shadows) {
   return (o.env_shadows ? svo::math::SVO_SHADE_ENV_SHADOWS : 0u) |
          (light_shadows ? svo::math::SVO_SHADE_LIGHT_SHADOWS : 0u) |
-         (o.preconvolved && o.environment ? svo::math::SVO_SHADE_PRECONVOLVED : 0u);
+         (o.preconvolved && o.environment ? svo::math::SVO_SHADE_PRECONVOLVED : 0u) |
+         (o.brdf_sampling ? svo::math::SVO_SHADE_BRDF_SAMPLING : 0u);
 }
 
 uint32_t append_environment_distribution(const Environment& env, std::vector<float>& tables) {

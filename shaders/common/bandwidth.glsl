@@ -87,16 +87,22 @@ SVO_FN float svo_bw_texture(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoGBuff
 
 // The bandwidth buffer's texel (section 3.1) for G-buffer texel `pixel`
 // and its four neighbours: x the level at which it may be shaded (Eq. 6,
-// 11, unfloored: log2(1 / (2 b_p)) within [0, coarsest]), y its sample count N_p (Eq. 9: the variance bound over n_b
-// directions, or with SVO_ADAPTIVE_MEASURED their sample variance halved (a
-// forward sample draws two directions), aiming at tau (L + 0.01)^2, the per-pixel relMSE of svo
-// compare), z that bound for one sample relative to (L + 0.01)^2 (L the
-// pixel's luminance as the n_b directions estimate it), w the screen-space curvature (radians per
-// pixel). The n_b directions are drawn from the environment and the BRDF
-// (one-sample mixture, density the average of the two), weighted by
-// lambda_i = L_i rho cos / pdf (Eq. 5, so that the weighted mean estimates
-// the integral's); the lights count as directions of unbounded angular
-// bandwidth in Eq. 5 and add no variance (every sample evaluates them).
+// 11, unfloored: log2(1 / (2 b_p)) within [0, coarsest]), y its sample
+// count N_p (Eq. 9: the variance bound over n_b directions, or with
+// SVO_ADAPTIVE_MEASURED their sample variance halved (a forward sample
+// draws two directions), aiming at tau (L + 0.01)^2, the per-pixel relMSE
+// of svo compare), z that bound for one sample relative to (L + 0.01)^2 (L
+// the pixel's luminance as the n_b directions estimate it), w the
+// screen-space curvature (radians per pixel). The n_b directions are drawn
+// from the environment and the BRDF (one-sample mixture, density the
+// average of the two), weighted by lambda_i = L_i rho cos / pdf (Eq. 5, so
+// that the weighted mean estimates the integral's); the lights count as
+// directions of unbounded angular bandwidth in Eq. 5 and add no variance
+// (every sample evaluates them). With the pre-convolved map, a measured
+// BRDF's directions are drawn from it alone and read the map filtered at
+// kappa (Eq. 10: the light's band is at most the kernel's; the measured
+// variance is of one such direction, as a sample draws one), and the
+// analytic lobes, looked up once, add no variance.
 // Without a surface: the coarsest level, no samples (svo_bandwidth_pixel
 // then sets silhouettes to level 0).
 SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoGBuffer y0, SvoGBuffer y1, uint pixel) {
@@ -118,6 +124,12 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
   // measured lobes; the microfacet ones widen by the voxel's slopes).
   SvoLobe lobe = svo_sample_lobe(p, mat, vec2(0.0f));
   vec3 vs = svo_to_lobe(lobe, p.v);
+  // A measured BRDF against the pre-convolved map (Eq. 10,
+  // svo_filtered_sharpness): its samples alone, of the map filtered at
+  // kappa, whose band is at most the kernel's.
+  float kappa = svo_filtered_sharpness(p, mat);
+  float kernel_limit = svo_bw_sg_limit(kappa);
+  bool brdf_only = kappa > 0.0f || (shade.sampling.z & SVO_SHADE_BRDF_SAMPLING) != 0u;
   uint nb = max(adapt.config.x, 1u);
   uint seed = shade.sampling.y ^ 0x5bd1e995u;
   float sum_lambda = 0.0f;
@@ -133,7 +145,7 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
     if (i < nb) {
       if (shade.env.y == 0u) continue;
       vec2 u = svo_sample_2d(pixel, seed, i, 0u);
-      bool from_env = svo_sample_1d(pixel, seed, i, 2u) < 0.5f;
+      bool from_env = !brdf_only && svo_sample_1d(pixel, seed, i, 2u) < 0.5f;
       if (from_env) {
         vec4 e = svo_env_sample(shade, u);
         if (!(e.w > 0.0f)) continue;
@@ -143,10 +155,11 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
         if (!(b.w > 0.0f)) continue;
         l = b.x * lobe.t + b.y * lobe.b + b.z * lobe.n;
       }
-      pdf = 0.5f * (svo_env_pdf(shade, l) + svo_material_pdf(lobe.mat, p.abar, vs, svo_to_lobe(lobe, l)));
+      pdf = svo_material_pdf(lobe.mat, p.abar, vs, svo_to_lobe(lobe, l));
+      if (!brdf_only) pdf = 0.5f * (svo_env_pdf(shade, l) + pdf);
       if (!(pdf > 0.0f)) continue;
-      radiance = svo_env_radiance(shade, l);
-      nu_light = svo_bw_environment(l);
+      radiance = svo_env_filtered(l, kappa);
+      nu_light = min(svo_bw_environment(l), kernel_limit);
     } else {
       SvoLightSample light = svo_light_at(i - nb, p.position);
       l = light.l;
@@ -184,10 +197,16 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
   float rel = 4.0f * SVO_PI * SVO_PI * sum_var / norm;
   if ((adapt.config.z & SVO_ADAPTIVE_MEASURED) != 0u) {
     // The variance of one mixture sample, from the n_b directions; a
-    // forward sample takes two (one from the BRDF, one from the map).
+    // forward sample takes two (one from the BRDF, one from the map), or
+    // one from the BRDF alone.
     float mean = sum_x / float(nb);
-    rel = 0.5f * max(sum_x2 / float(nb) - mean * mean, 0.0f) / norm;
+    rel = (brdf_only ? 1.0f : 0.5f) * max(sum_x2 / float(nb) - mean * mean, 0.0f) / norm;
   }
+  // The analytic lobes against the pre-convolved map: one lookup each
+  // (svo_forward_preconvolved), whatever the count.
+  if ((shade.sampling.z & SVO_SHADE_PRECONVOLVED) != 0u && mat.kind != SVO_BRDF_MERL &&
+      svo_scene_material(g.material2).kind != SVO_BRDF_MERL)
+    rel = 0.0f;
   float np = clamp(ceil(rel / max(adapt.quality.x, 1.0e-12f)), max(adapt.quality.z, 1.0f), float(adapt.config.y));
   return vec4(level, np, rel, curvature * pixel_angle * g.depth);
 }

@@ -83,15 +83,25 @@ SVO_FN uint svo_bw_level(float b_p, uint max_level) {
   return min(uint(l), max_level);
 }
 
+// The band-limit (cycles per radian) of a function convolved with a
+// normalised SG of sharpness kappa, near its axis a Gaussian of deviation
+// 1 / sqrt(kappa), whose power spectrum holds 95% of its energy below
+// 1.96 sqrt(kappa) / (2 sqrt(2) pi) = 0.2206 sqrt(kappa). None
+// (SVO_BW_INFINITE) for kappa 0 (no kernel).
+SVO_FN float svo_bw_sg_limit(float kappa) {
+  if (!(kappa > 0.0f)) return SVO_BW_INFINITE;
+  return min(0.2206f * sqrt(kappa), SVO_BW_INFINITE);
+}
+
 // Our addition: the band-limit (cycles per radian) of the reflected light
 // of a surface whose slopes spread with variance sigma2 (the voxel's
 // smaller principal slope variance): the reflected directions spread with
-// deviation 2 sigma, a Gaussian whose power spectrum holds 95% of its
-// energy below 1.96 / (2 sqrt(2) pi (2 sigma)) = 0.1103 / sigma. None
-// (SVO_BW_INFINITE) for a smooth surface.
+// deviation 2 sigma, the kernel of sharpness 1 / (4 sigma2), whose band is
+// 0.1103 / sigma (svo_bw_sg_limit). None (SVO_BW_INFINITE) for a smooth
+// surface.
 SVO_FN float svo_bw_slope_limit(float sigma2) {
   if (!(sigma2 > 0.0f)) return SVO_BW_INFINITE;
-  return min(0.1103f / sqrt(sigma2), SVO_BW_INFINITE);
+  return svo_bw_sg_limit(0.25f / sigma2);
 }
 
 // Eq. 9's term of one light direction: (nu_a^i + nu_rho^i) chi_i^2, with

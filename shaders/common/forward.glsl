@@ -158,6 +158,73 @@ SVO_FN SvoForwardSum svo_forward_lights(SvoShadingPoint p, SvoLobe lobe, bool sh
   return sum;
 }
 
+// A material's specular lobes in half-vector space about the normal, as
+// up to 3 (sharpness, amplitude) pairs in a vec3 each and their count:
+// the microfacet NDFs one lobe (svo_ndf_sharpness), a measured BRDF its SG
+// fit (the table at mat.sg_fit: count, then sharpness and amplitude per
+// lobe), the Lambert material the diffuse lobe's sharpness.
+struct SvoHalfLobes {
+  vec3 sharpness;
+  vec3 amplitude;
+  uint count;
+};
+
+SVO_FN SvoHalfLobes svo_material_lobes(SvoMaterial mat) {
+  SvoHalfLobes h;
+  h.sharpness = vec3(0.0f);
+  h.amplitude = vec3(0.0f);
+  h.count = 1u;
+  h.amplitude.x = 1.0f;
+  if (mat.kind == SVO_BRDF_LAMBERT) {
+    h.sharpness.x = 2.133f;
+  } else if (mat.kind == SVO_BRDF_MERL) {
+    uint n = mat.sg_fit != 0u ? min(uint(svo_table(mat.sg_fit) + 0.5f), 3u) : 0u;
+    if (n == 0u) {
+      h.sharpness.x = 100.0f;  // no fit: a moderately glossy lobe
+    } else {
+      h.count = n;
+      for (uint k = 0u; k < n; ++k) {
+        h.sharpness[k] = svo_table(mat.sg_fit + 1u + 2u * k);
+        h.amplitude[k] = svo_table(mat.sg_fit + 2u + 2u * k);
+      }
+    }
+  } else {
+    h.sharpness.x = svo_ndf_sharpness(mat.kind, mat.alpha2.x, mat.exponent, 0.0f);
+  }
+  return h;
+}
+
+// Adaptive sampling for pre-convolved shading (Bagher et al. 2013, section
+// 2.5, Eq. 10): with SVO_SHADE_PRECONVOLVED a measured BRDF is still
+// sampled, from its own distribution alone, but each sample reads the map
+// pre-convolved at the BRDF's maximum frequency, so that the integrand
+// keeps only the frequencies the BRDF passes and fewer samples reach a
+// given variance. The price is a bias: the lookup widens the BRDF's
+// sharpest lobe (its sharpness halves), measured in docs/RESULTS.md.
+//
+// The sharpness of the SG kernel that material `mat`'s samples at p read
+// the pre-convolved map with: the reflection lobe (svo_reflection_lobe) of
+// the sharpest lobe of its SG fit (svo_material_lobes), widened by the
+// voxel's slopes as svo_ndf_sharpness widens an NDF. 0, the map read as it
+// is, without pre-convolved maps, for the analytic lobes (looked up once
+// each, svo_forward_preconvolved) and where the kernel would be sharper
+// than the maps' sharpest level.
+SVO_FN float svo_filtered_sharpness(SvoShadingPoint p, SvoMaterial mat) {
+  if ((shade.sampling.z & SVO_SHADE_PRECONVOLVED) == 0u || mat.kind != SVO_BRDF_MERL) return 0.0f;
+  float lh = svo_material_lobes(mat).sharpness.x;
+  lh = lh / (1.0f + lh * 0.5f * max(p.sn2.x + p.sn2.y, 0.0f));
+  float kappa = svo_reflection_lobe(p.n, p.v, lh).sharpness;
+  uint at = floatBitsToUint(shade.env_xform.z);
+  float sharpest = svo_table(at + 1u) * exp2(svo_table(at) - 1.0f);
+  return kappa <= sharpest ? kappa : 0.0f;
+}
+
+// The radiance a sample along l reads: the map pre-convolved at kappa
+// (svo_filtered_sharpness), or as it is where kappa is 0.
+SVO_FN vec3 svo_env_filtered(vec3 l, float kappa) {
+  return kappa > 0.0f ? svo_env_preconvolved(shade, l, kappa) : svo_env_radiance(shade, l);
+}
+
 // The directional albedo of the lobe's specular part seen from vs (in
 // the lobe's frame): int f_s(v, l) l.z dl by 16 micronormals drawn from
 // D(m) m.z on a fixed 4 x 4 stratified grid, the same for every pixel, so
@@ -216,7 +283,7 @@ SVO_FN SvoForwardSum svo_forward_preconvolved(SvoShadingPoint p, SvoMaterial mat
 // over `spp` samples (the bandwidth-adaptive pass's per-pixel count).
 // Pre-convolved (SVO_SHADE_PRECONVOLVED): the whole of it in the share
 // holding sample 0, nothing in the others; measured BRDFs are still
-// sampled.
+// sampled, against the pre-convolved map (svo_filtered_sharpness).
 SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first, uint count, uint spp) {
   SvoShadingPoint p = svo_shading_point(g);
   SvoMaterial first_material = svo_scene_material(g.material);
@@ -251,6 +318,12 @@ SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first
     sum.diffuse += lit.diffuse;
     sum.specular += lit.specular;
     if (shade.env.y == 0u) continue;
+    // A measured BRDF against the pre-convolved map (Eq. 10): the map
+    // filtered at kappa, seen through a cone as wide as the kernel, and
+    // the BRDF's sample alone, as with SVO_SHADE_BRDF_SAMPLING.
+    float kappa = svo_filtered_sharpness(p, lobe.mat);
+    float spread = kappa > 0.0f ? min(inversesqrt(kappa), 1.0f) : 0.0f;
+    bool brdf_only = kappa > 0.0f || (shade.sampling.z & SVO_SHADE_BRDF_SAMPLING) != 0u;
     // One sample of the material's lobes.
     vec4 b = svo_sample_material(lobe.mat, p.abar, vs,
                                  vec3(svo_sample_2d(pixel, seed, i, 2u), svo_sample_1d(pixel, seed, i, 4u)));
@@ -258,12 +331,13 @@ SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first
       vec3 l = b.x * lobe.t + b.y * lobe.b + b.z * lobe.n;
       SvoForwardSum f = svo_forward_brdf_cos(p, lobe, l);
       if (svo_forward_sum_total(f) > 0.0f) {
-        float w = svo_power_heuristic(b.w, svo_env_pdf(shade, l));
-        vec3 k = svo_env_radiance(shade, l) * (w / b.w);
-        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        float w = brdf_only ? 1.0f : svo_power_heuristic(b.w, svo_env_pdf(shade, l));
+        vec3 k = svo_env_filtered(l, kappa) * (w / b.w);
+        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, spread);
         sum = svo_forward_madd(sum, f, k);
       }
     }
+    if (brdf_only) continue;
     // One sample of the environment.
     vec4 e = svo_env_sample(shade, svo_sample_2d(pixel, seed, i, 5u));
     if (e.w > 0.0f) {
@@ -271,8 +345,8 @@ SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first
       SvoForwardSum f = svo_forward_brdf_cos(p, lobe, l);
       if (svo_forward_sum_total(f) > 0.0f) {
         float pb = svo_material_pdf(lobe.mat, p.abar, vs, svo_to_lobe(lobe, l));
-        vec3 k = svo_env_radiance(shade, l) * (svo_power_heuristic(e.w, pb) / e.w);
-        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, 0.0f);
+        vec3 k = svo_env_filtered(l, kappa) * (svo_power_heuristic(e.w, pb) / e.w);
+        if (env_shadows && k.x + k.y + k.z > 0.0f) k *= svo_forward_visible(p, l, 3.0e38f, spread);
         sum = svo_forward_madd(sum, f, k);
       }
     }

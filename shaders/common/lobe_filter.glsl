@@ -34,42 +34,6 @@
 #include "lobe_filter_types.glsl"
 #include "sg.glsl"
 
-// A material's specular lobes in half-vector space about the normal, as
-// up to 3 (sharpness, amplitude) pairs in a vec3 each and their count:
-// the microfacet NDFs one lobe (svo_ndf_sharpness), a measured BRDF its SG
-// fit (the table at mat.sg_fit: count, then sharpness and amplitude per
-// lobe), the Lambert material the diffuse lobe's sharpness.
-struct SvoHalfLobes {
-  vec3 sharpness;
-  vec3 amplitude;
-  uint count;
-};
-
-SVO_FN SvoHalfLobes svo_material_lobes(SvoMaterial mat) {
-  SvoHalfLobes h;
-  h.sharpness = vec3(0.0f);
-  h.amplitude = vec3(0.0f);
-  h.count = 1u;
-  h.amplitude.x = 1.0f;
-  if (mat.kind == SVO_BRDF_LAMBERT) {
-    h.sharpness.x = 2.133f;
-  } else if (mat.kind == SVO_BRDF_MERL) {
-    uint n = mat.sg_fit != 0u ? min(uint(svo_table(mat.sg_fit) + 0.5f), 3u) : 0u;
-    if (n == 0u) {
-      h.sharpness.x = 100.0f;  // no fit: a moderately glossy lobe
-    } else {
-      h.count = n;
-      for (uint k = 0u; k < n; ++k) {
-        h.sharpness[k] = svo_table(mat.sg_fit + 1u + 2u * k);
-        h.amplitude[k] = svo_table(mat.sg_fit + 2u + 2u * k);
-      }
-    }
-  } else {
-    h.sharpness.x = svo_ndf_sharpness(mat.kind, mat.alpha2.x, mat.exponent, 0.0f);
-  }
-  return h;
-}
-
 SVO_FN SvoASG svo_pixel_asg(SVO_IN(SvoPixelLobe) l) {
   return svo_asg(l.asg_x, cross(l.axis, l.asg_x), l.axis, l.asg_lx, l.asg_ly, 1.0f);
 }

@@ -18,6 +18,9 @@ SVO_CONST uint SVO_BRDF_MERL = 4u;
 SVO_CONST uint SVO_SHADE_ENV_SHADOWS = 1u;  // environment samples see visibility cones through the octree
 SVO_CONST uint SVO_SHADE_LIGHT_SHADOWS = 2u;  // so do the lights
 SVO_CONST uint SVO_SHADE_PRECONVOLVED = 4u;  // the environment looked up pre-convolved (forward.glsl), no samples
+// The environment's light sampled from the BRDF alone (Bagher et al.'s
+// sampling), no sample of the map and no multiple importance sampling.
+SVO_CONST uint SVO_SHADE_BRDF_SAMPLING = 8u;
 
 struct SvoShadeParams {
   uvec4 env;        // x: width, y: height (0: no environment), z: table offset of the rgb texels, w: of the distribution

@@ -5,6 +5,9 @@
 // background seen through different footprints would dominate).
 #pragma once
 
+#include <cmath>
+
+#include "svo/render/merl.h"
 #include "svo/render/shading.h"
 
 namespace svo::test {
@@ -26,6 +29,36 @@ inline render::Environment sky(uint32_t w = 64, uint32_t h = 32, bool black_rows
   }
   render::validate_environment(env);
   return env;
+}
+
+// A latitude-longitude map of `stripes` bright (2) and dark (0.1) stripes
+// in longitude: high angular frequencies everywhere.
+inline render::Environment stripes(uint32_t stripes, uint32_t w = 256, uint32_t h = 128) {
+  render::Environment env;
+  env.width = w;
+  env.height = h;
+  env.source = "test-stripes";
+  env.rgb.resize(size_t(w) * h * 3);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k) env.rgb[(size_t(y) * w + x) * 3 + k] = (x * 2 * stripes / w) % 2 ? 2.0f : 0.1f;
+  render::validate_environment(env);
+  return env;
+}
+
+// A measured material: a MERL table of one half-vector SG of the given
+// sharpness and amplitude over a Lambert floor `floor` / pi (grey), its
+// diffuse part 0 (the table holds all of it).
+inline render::Material sg_merl_material(double sharpness, double amplitude, double floor) {
+  render::Material m;
+  m.name = "sg-merl";
+  m.kind = render::BrdfKind::Merl;
+  m.diffuse = glm::vec3(0.0f);
+  m.merl = std::make_shared<const render::MerlBrdf>(render::tabulate_merl([=](glm::dvec3 wi, glm::dvec3 wo) {
+    const glm::dvec3 h = glm::normalize(wi + wo);
+    return glm::dvec3(floor / M_PI + amplitude * std::exp(sharpness * (h.z - 1)));
+  }));
+  return m;
 }
 
 }  // namespace svo::test

@@ -150,6 +150,12 @@ struct ShadingOptions {
   // samples (forward.glsl, svo_forward_preconvolved), seen through one cone
   // along the lobe when env_shadows is set. Lights are still evaluated.
   std::shared_ptr<const PreconvolvedEnvironment> preconvolved;
+  // The environment's light sampled from the BRDF alone, as Bagher et al.
+  // 2013 do (section 3.3), instead of one BRDF and one map sample combined
+  // by multiple importance sampling; a sample then costs one direction
+  // instead of two. Measured BRDFs against the pre-convolved map are
+  // always sampled so (forward.glsl, svo_filtered_sharpness).
+  bool brdf_sampling = false;
 };
 
 // The bandwidth-adaptive pass's parameters (render::AdaptivePass; Bagher
