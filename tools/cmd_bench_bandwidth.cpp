@@ -15,7 +15,11 @@
 //      Fig. 16): adaptive frames against the map pre-convolved at the
 //      BRDF's sharpest lobe against adaptive frames of the map as it is
 //      (multiple importance sampling, and the paper's BRDF sampling alone),
-//      at equal relMSE.
+//      at equal relMSE;
+//   6. adaptive multisample anti-aliasing (section 4.3, Fig. 10 right,
+//      Fig. 19): frame time against samples per pixel;
+//   7. area lights (section 4.3, Fig. 17): a white and a checkered square
+//      light, adaptive against forward at equal relMSE.
 // Ground truth is `svo reference` (the source geometry, many samples), or
 // with --truth forward a converged forward frame of the same G-buffer
 // (shading error alone, without the octree's).
@@ -74,7 +78,9 @@ struct BandwidthBenchArgs {
   uint32_t variance_frames = 32;
   uint32_t repeats = 2;
   uint32_t directions = render::AdaptiveOptions{}.directions;  // n_b of parts 1, 2 and 4
-  std::vector<uint32_t> parts{1, 2, 3, 4};                     // part 5 on request
+  std::vector<uint32_t> parts{1, 2, 3, 4};                     // parts 5 to 7 on request
+  uint32_t msaa_spp = 16;                                      // part 6: the forward frames' samples per pixel
+  float msaa_tau = 0.01f;                                      // and the adaptive frames' tau (measured variance)
   std::string out = "bench-bandwidth";
 };
 
@@ -266,12 +272,27 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
     auto pass = std::make_unique<render::AdaptivePass>();
     render::AdaptivePass* adaptive = pass.get();
     adaptive_renderer->add_pass(std::move(pass));
+    // One timed adaptive frame and its point against the truth.
+    auto adaptive_point = [&](const std::string& method, double knob, const render::RenderSettings& t,
+                              const render::Frame& truth, render::Frame& f) {
+      Point p{method, knob};
+      f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, p.ms);
+      p.relmse = relmse(f, truth);
+      const auto& st = adaptive->stats();
+      p.bandwidth_ms = st.bandwidth_ms;
+      p.shaded = st.shaded;
+      p.samples = st.samples;
+      p.covered = st.covered;
+      return p;
+    };
     render::RenderSettings base;
     base.width = base.height = a.size;
     base.camera = render::view_preset(scene.tree, a.view);
     base.lights.clear();
     base.ambient = glm::vec3(0);
+    const bool map_parts = wants(1) || wants(2) || wants(3) || wants(4) || wants(5) || wants(6);
     for (const std::string& env_path : a.envs) {
+      if (!map_parts) break;  // part 7 alone: no map
       auto env = std::make_shared<const render::Environment>(render::load_environment(env_path));
       const std::string env_name = fs::path(env_path).stem().string();
       // Part 5's map, pre-convolved once per map (its time stated).
@@ -308,7 +329,6 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           truth = forward->render(t);
         }
         save_png(dir / (scene.name + "-" + material->name + "-" + env_name + "-truth.png"), truth);
-        if (!wants(1) && !wants(2) && !wants(3) && !wants(4) && !wants(5)) continue;
         const bool first = &env_path == &a.envs.front() && &material_name == &a.materials.front();
 
         // Part 1: the headline.
@@ -333,15 +353,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
               render::RenderSettings t = s;
               t.adaptive.tau = taus[k];
               t.adaptive.measured_variance = measured;
-              Point p{measured ? "measured" : "bound", taus[k]};
-              const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, p.ms);
-              p.relmse = relmse(f, truth);
-              const auto& st = adaptive->stats();
-              p.bandwidth_ms = st.bandwidth_ms;
-              p.shaded = st.shaded;
-              p.samples = st.samples;
-              p.covered = st.covered;
-              ad.push_back(p);
+              render::Frame f;
+              ad.push_back(adaptive_point(measured ? "measured" : "bound", taus[k], t, truth, f));
               if (first && measured && k == 1) {
                 save_png(dir / (scene.name + "-adaptive.png"), f);
               }
@@ -423,15 +436,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
               t.adaptive.measured_variance = true;
               t.shading.brdf_sampling = methods[m] == "brdf";
               if (pre) t.shading.preconvolved = preconvolved;
-              Point p{methods[m], taus[k]};
-              const render::Frame f = timed([&] { return adaptive_renderer->render(t); }, a.repeats, p.ms);
-              p.relmse = relmse(f, truth);
-              const auto& st = adaptive->stats();
-              p.bandwidth_ms = st.bandwidth_ms;
-              p.shaded = st.shaded;
-              p.samples = st.samples;
-              p.covered = st.covered;
-              points[m].push_back(p);
+              render::Frame f;
+              points[m].push_back(adaptive_point(methods[m], taus[k], t, truth, f));
               if (k == count / 2)
                 save_png(dir / (scene.name + "-" + material->name + "-" + env_name + "-fig16-" + methods[m] + ".png"),
                          f);
@@ -486,8 +492,89 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           csv.save();
         }
 
-        // Parts 2-4: the first material and map of the first scene.
+        // Parts 2-4 and 6: the first material and map of the first scene.
         if (!first || si != 0) continue;
+
+        // Part 6: adaptive multisample anti-aliasing (section 4.3, Fig. 10
+        // right, Fig. 19): frame time against samples per pixel (1, 4, 16),
+        // forward shading of every sample against adaptive shading, and the
+        // exponent e of each (time ~ samples^e, least squares in log-log).
+        if (wants(6)) {
+          md << "## Adaptive multisample anti-aliasing (Fig. 10 right, Fig. 19): " << label << "\n\nForward at "
+             << a.msaa_spp << " spp per sample against adaptive (measured variance, tau " << sci(a.msaa_tau)
+             << "); shading ms is the frame's less the trace pass.\n\n| samples per pixel | "
+             << "forward ms | forward shading ms | forward relMSE | adaptive ms | adaptive shading ms | adaptive "
+                "relMSE | shaded texels / samples |\n|---|---|---|---|---|---|---|---|\n";
+          std::vector<double> lx, lf, lfs, la, las;
+          auto shading_ms = [](const render::Frame& f) {
+            double ms = 0;
+            for (const render::PassTime& p : f.passes) ms += p.name == "trace" ? 0.0 : p.ms;
+            return ms;
+          };
+          for (uint32_t m : {1u, 2u, 4u}) {
+            bar.update(label + ": msaa " + std::to_string(m), 0);
+            render::RenderSettings t = s;
+            t.msaa = m;
+            t.shading.spp = a.msaa_spp;
+            t.adaptive.tau = a.msaa_tau;
+            t.adaptive.measured_variance = true;
+            double fms = 0, ams = 0;
+            const render::Frame ff = timed([&] { return forward->render(t); }, a.repeats, fms);
+            const render::Frame af = timed([&] { return adaptive_renderer->render(t); }, a.repeats, ams);
+            const auto& st = adaptive->stats();
+            const double samples = double(m) * m * a.size * a.size;
+            lx.push_back(std::log(double(m) * m));
+            lf.push_back(std::log(fms));
+            lfs.push_back(std::log(shading_ms(ff)));
+            la.push_back(std::log(ams));
+            las.push_back(std::log(shading_ms(af)));
+            const double fe = relmse(ff, truth), ae = relmse(af, truth);
+            md << "| " << m * m << " | " << bench::fmt(fms, 0) << " | " << bench::fmt(shading_ms(ff), 0) << " | "
+               << sci(fe) << " | " << bench::fmt(ams, 0) << " | " << bench::fmt(shading_ms(af), 0) << " | " << sci(ae)
+               << " | " << bench::fmt(double(st.shaded) / samples, 3) << " |\n";
+            json["msaa"].push_back({{"samples_per_pixel", m * m},
+                                    {"forward_ms", fms},
+                                    {"forward_shading_ms", shading_ms(ff)},
+                                    {"forward_relmse", fe},
+                                    {"adaptive_ms", ams},
+                                    {"adaptive_shading_ms", shading_ms(af)},
+                                    {"adaptive_relmse", ae},
+                                    {"shaded", st.shaded},
+                                    {"samples", st.samples}});
+            if (m == 4) {
+              // Fig. 19: where the samples were shaded (pale: at the finest
+              // level; black: upsampled or no surface).
+              render::FrameImages& images = adaptive_renderer->images();
+              const auto mask = images.texels<glm::vec4>(images.read(render::AdaptivePass::mask_image()));
+              const size_t n = size_t(a.size) * m * a.size * m;
+              std::vector<float> shaded(n);
+              for (size_t i = 0; i < n; ++i) shaded[i] = mask[i].x < 0 ? -1 : 1.0f - mask[i].x / 7.0f;
+              save_png(dir / "fig19-shaded-samples.png", false_colour(shaded, a.size * m, a.size * m, 0, 1, false));
+              save_png(dir / "fig19-adaptive-msaa.png", af);
+            }
+          }
+          // The least-squares slope of y against x.
+          auto slope = [](const std::vector<double>& x, const std::vector<double>& y) {
+            const double mx = std::accumulate(x.begin(), x.end(), 0.0) / double(x.size());
+            const double my = std::accumulate(y.begin(), y.end(), 0.0) / double(y.size());
+            double sxy = 0, sxx = 0;
+            for (size_t i = 0; i < x.size(); ++i) {
+              sxy += (x[i] - mx) * (y[i] - my);
+              sxx += (x[i] - mx) * (x[i] - mx);
+            }
+            return sxx > 0 ? sxy / sxx : 0.0;
+          };
+          md << "\nExponent of time against samples per pixel (paper: 0.7 for adaptive): forward "
+             << bench::fmt(slope(lx, lf), 2) << " (shading " << bench::fmt(slope(lx, lfs), 2) << "), adaptive "
+             << bench::fmt(slope(lx, la), 2) << " (shading " << bench::fmt(slope(lx, las), 2)
+             << "). Images: fig19-shaded-samples.png (16 samples per pixel: pale where shaded at the finest "
+             << "level), fig19-adaptive-msaa.png.\n\n";
+          json["msaa_exponent"] = {{"forward", slope(lx, lf)},
+                                   {"forward_shading", slope(lx, lfs)},
+                                   {"adaptive", slope(lx, la)},
+                                   {"adaptive_shading", slope(lx, las)}};
+          md.save();
+        }
 
         // Part 2: validation (Fig. 12) and the images of Fig. 1b-d.
         if (wants(2)) {
@@ -678,6 +765,95 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
         }
       }
     }
+
+    // Part 7: area lights (section 4.3, Fig. 17): the first scene under
+    // a white square light and a checkered one above it (no map), shadows
+    // on, the first material: adaptive (measured variance) against forward
+    // shading at equal relMSE against ground truth.
+    if (wants(7) && si == 0) {
+      const auto material = bench_material(a.materials.front());
+      const glm::vec3 centre = scene.tree.origin + glm::vec3(0.5f * scene.tree.size);
+      const uint32_t n = 8;
+      std::vector<float> checker(size_t(n) * n * 3);
+      for (uint32_t i = 0; i < n * n; ++i)
+        for (uint32_t c = 0; c < 3; ++c) checker[3 * i + c] = (i % n + i / n) % 2 == 0 ? 20.0f : 0.0f;
+      const std::vector<std::pair<std::string, std::vector<float>>> lights{{"white", {10.0f, 10.0f, 10.0f}},
+                                                                           {"checker", checker}};
+      for (const auto& [light_name, rgb] : lights) {
+        const uint32_t w = light_name == "white" ? 1 : n;
+        const std::string label = scene.name + " / " + material->name + " / " + light_name + " area light";
+        render::RenderSettings s = base;
+        s.shading.material = material;
+        s.shading.area_light = std::make_shared<const render::AreaLight>(
+            render::AreaLight::placed(centre + glm::vec3(0.0f, 1.2f * scene.tree.size, 0.0f), centre,
+                                      0.5f * scene.tree.size, w, w, rgb, light_name));
+        s.shadows = true;
+        s.adaptive.directions = a.directions;
+        s.adaptive.measured_variance = true;
+        bar.update(label + ": ground truth", 0);
+        reference::ReferenceSettings rs;
+        rs.render = s;
+        rs.spp = a.truth_spp;
+        rs.progress = [&, rows = uint64_t(rs.render.height)](double f) {
+          bar.update(label + ": svo reference", uint64_t(f * double(rows) + 0.5), rows, "rows");
+        };
+        const render::Frame truth = reference::render_reference(*scene.geometry, rs);
+        const std::string stem = scene.name + "-fig17-" + light_name;
+        save_png(dir / (stem + "-truth.png"), truth);
+        std::vector<bench::CostErrorPoint> curve;
+        md << "## Area light (Fig. 17): " << label
+           << "\n\nThe light: half a domain size across, 1.2 above the domain's centre, facing down, radiance 10 "
+              "(white) or 8x8 checkers of 20 and 0 (mean 10); shadows on; no map.\n\n| method | "
+           << "spp or tau | ms | relMSE | forward ms at that relMSE | speed-up | shaded texels / covered pixels | "
+              "samples / covered pixel |\n|---|---|---|---|---|---|---|---|\n";
+        nlohmann::json row{{"scene", scene.name}, {"material", material->name}, {"light", light_name}};
+        for (uint32_t spp : a.spp) {
+          bar.update(label + ": forward " + std::to_string(spp) + " spp", 0);
+          render::RenderSettings t = s;
+          t.shading.spp = spp;
+          Point p{"forward", double(spp)};
+          const render::Frame f = timed([&] { return forward->render(t); }, a.repeats, p.ms);
+          p.relmse = relmse(f, truth);
+          curve.push_back({"forward " + std::to_string(spp) + " spp", p.ms, p.relmse});
+          md << "| forward | " << spp << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse) << " | | | 1 | " << spp
+             << " |\n";
+          csv << "7," << scene.name << "," << material->name << "," << light_name << ",forward," << spp << "," << p.ms
+              << "," << p.relmse << ",,,,\n";
+          row["forward"].push_back({{"spp", spp}, {"ms", p.ms}, {"relmse", p.relmse}});
+        }
+        double best = 0;
+        const std::vector<float> taus = a.taus.empty() ? std::vector<float>{0.003f, 0.01f, 0.03f} : a.taus;
+        for (size_t k = 0; k < taus.size(); ++k) {
+          bar.update(label + ": adaptive tau " + sci(taus[k]), 0);
+          render::RenderSettings t = s;
+          t.adaptive.tau = taus[k];
+          render::Frame f;
+          const Point p = adaptive_point("adaptive", taus[k], t, truth, f);
+          const ClaimCells claim = claim_cells(p.ms, p.relmse, curve);
+          best = std::max(best, claim.factor);
+          md << "| adaptive | " << sci(p.knob) << " | " << bench::fmt(p.ms, 0) << " | " << sci(p.relmse) << " | "
+             << claim.at << " | " << claim.speedup << " | "
+             << bench::fmt(double(p.shaded) / double(std::max<uint64_t>(p.covered, 1)), 3) << " | "
+             << bench::fmt(double(p.samples) / double(std::max<uint64_t>(p.covered, 1)), 1) << " |\n";
+          csv << "7," << scene.name << "," << material->name << "," << light_name << ",adaptive," << p.knob << ","
+              << p.ms << "," << p.relmse << "," << p.bandwidth_ms << "," << p.shaded << "," << p.samples << ","
+              << p.covered << "\n";
+          row["adaptive"].push_back({{"tau", p.knob},
+                                     {"ms", p.ms},
+                                     {"relmse", p.relmse},
+                                     {"shaded", p.shaded},
+                                     {"samples", p.samples},
+                                     {"covered", p.covered}});
+          if (k == taus.size() / 2) save_png(dir / (stem + "-adaptive.png"), f);
+        }
+        md << "\nBest speed-up at equal relMSE: " << bench::fmt(best, 2) << "x. Images: " << stem << "-truth.png, "
+           << stem << "-adaptive.png.\n\n";
+        row["best_speedup"] = best;
+        json["area_light"].push_back(row);
+        md.save();
+        csv.save();
+      }
+    }
   }
   md.save();
   csv.save();
@@ -695,7 +871,8 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
       "Bagher et al. 2013's figures on the engine: adaptive against forward shading at equal relMSE against ground "
       "truth (Figs. 11, 14) with the bandwidth buffer's share, validation of the predicted variance and bandwidth "
       "(Fig. 12, images of Fig. 1b-d), n_b (Fig. 13), the voxels' slope band-limit and pre-convolved shading "
-      "(Eq. 10, Fig. 16); writes table.md, "
+      "(Eq. 10, Fig. 16), multisample anti-aliasing (Fig. 10 right, Fig. 19) and area lights (Fig. 17); writes "
+      "table.md, "
       "results.csv, results.json and images to --out");
   cmd->add_option("--scenes", a->scenes, "Built-in scenes or mesh files (OFF, OBJ, PLY, ...)")
       ->delimiter(',')
@@ -737,13 +914,21 @@ void add_bench_bandwidth_command(CLI::App& bench, int& exit_code) {
   cmd->add_option("--directions", a->directions, "n_b, the directions per pixel of the adaptive frames (not part 3's)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 4096u));
-  cmd->add_option("--parts", a->parts,
-                  "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit), 5 "
-                  "(pre-convolved shading, Eq. 10, Fig. 16: give MERL materials); parts 2-4 run on the first "
-                  "scene's first material and map")
+  cmd->add_option(
+         "--parts", a->parts,
+         "1 (headline, Figs. 11, 14), 2 (validation, Fig. 12), 3 (n_b, Fig. 13), 4 (slope band-limit), 5 "
+         "(pre-convolved shading, Eq. 10, Fig. 16: give MERL materials), 6 (multisample anti-aliasing, Fig. "
+         "10 right, Fig. 19), 7 (area lights, Fig. 17: the first scene and material, no map); parts 2-4 and 6 run "
+         "on the first scene's first material and map")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1u, 5u));
+      ->check(CLI::Range(1u, 7u));
+  cmd->add_option("--msaa-spp", a->msaa_spp, "Part 6: samples per pixel of the forward frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 4096u));
+  cmd->add_option("--msaa-tau", a->msaa_tau, "Part 6: tau of the adaptive frames (measured variance)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-9f, 1e9f));
   cmd->add_option("-o,--out", a->out, "Output directory (created)")->capture_default_str();
   cmd->callback([a, &exit_code] {
     run_bandwidth_bench(*a);

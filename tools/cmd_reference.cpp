@@ -79,6 +79,7 @@ void add_reference_command(CLI::App& app, int& exit_code) {
   add_light_options(*cmd, a->view);
   add_film_options(*cmd, a->film);
   add_lighting_options(*cmd, a->lighting);
+  add_area_light_options(*cmd, a->lighting);
   add_luminaire_options(*cmd, a->luminaires);
   cmd->add_option("--luminaire-quadrature", a->luminaire_quadrature,
                   "K: each hit is lit by the luminaires through dense quadrature of the light-field integral, K x K "
@@ -140,13 +141,17 @@ void add_reference_command(CLI::App& app, int& exit_code) {
     // The luminaires about the octree's domain, else the source's bounds.
     if (tree) {
       apply_luminaires(a->luminaires, &*tree, settings.render);
+      apply_area_light(a->lighting, centre, tree->size, settings.render);
     } else {
       const glm::vec3 extent = bounds.hi - bounds.lo;
-      apply_luminaires(a->luminaires, centre, std::max({extent.x, extent.y, extent.z, 1e-6f}), settings.render);
+      const float size = std::max({extent.x, extent.y, extent.z, 1e-6f});
+      apply_luminaires(a->luminaires, centre, size, settings.render);
+      apply_area_light(a->lighting, centre, size, settings.render);
     }
     // As svo render: the luminaires (and the ambient term) light the frame
     // alone, unless an environment makes it forward shade with its lights.
     if (!settings.render.luminaire.luminaires.empty() && a->lighting.env.empty()) settings.render.lights.clear();
+    if (settings.render.shading.area_light && a->view.lights.empty()) settings.render.lights.clear();
     settings.luminaire_quadrature = a->luminaire_quadrature;
     settings.spp = a->spp;
     settings.seed = a->seed;

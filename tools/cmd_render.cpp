@@ -45,6 +45,7 @@ struct RenderArgs {
   render::AdaptiveOptions adaptive;
   LuminaireArgs luminaires;
   uint32_t seed = 1;
+  uint32_t msaa = 1;
   float footprint_spread = render::RenderSettings{}.footprint_spread;
   bool flat_masks = false;
   bool keep_back_facing = false;
@@ -143,7 +144,16 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"tracer", "forward", "adaptive"}))
       ->group("Shading");
   cmd->add_option("--seed", a->seed, "Seed of the forward pass's sample sequence")->group("Shading");
+  cmd->add_option("--msaa", a->msaa,
+                  "Multisample anti-aliasing: trace and shade N x N samples per pixel (a cone each) and average them. "
+                  "--shading forward shades every sample; --shading adaptive only those whose predicted bandwidth asks "
+                  "for more than a pixel (Bagher et al. 2013, Fig. 19). --aov images are at the samples' size; not "
+                  "with --gbuffer")
+      ->check(CLI::IsMember({1u, 2u, 4u}))
+      ->capture_default_str()
+      ->group("Shading");
   add_lighting_options(*cmd, a->lighting);
+  add_area_light_options(*cmd, a->lighting);
   add_light_options(*cmd, a->view);
   add_film_options(*cmd, a->film);
   add_filter_options(*cmd, a->filter);
@@ -264,7 +274,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     // file's copy (up to 16), the G-buffer and its file's copy (2 x 48), the
     // steps image's copy (4), the adaptive pass's images.
     {
-      const double pixels = double(a->view.width) * double(a->view.height);
+      const double pixels = double(a->view.width) * double(a->view.height) * double(a->msaa) * double(a->msaa);
       const bool gbuffer = !a->gbuffer.empty() ||
                            std::any_of(aovs.begin(), aovs.end(), [](const auto& x) { return x.first == "gbuffer"; });
       const double mib =
@@ -306,7 +316,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
     apply_lighting(a->lighting, settings);
     apply_filter(a->filter, settings);
     settings.adaptive = a->adaptive;
+    settings.msaa = a->msaa;
     apply_luminaires(a->luminaires, &tree, settings);
+    apply_area_light(a->lighting, tree.origin + glm::vec3(0.5f * tree.size), tree.size, settings);
     settings.footprint_spread = a->footprint_spread;
     settings.curved_masks = !a->flat_masks;
     settings.front_facing = !a->keep_back_facing;
@@ -320,6 +332,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
       settings.display = settings.display || name == "display";
     }
     settings.lights = make_lights(a->view, centre, settings.camera);
+    // The area light (and --ambient) light the frame alone, unless --light is given.
+    if (settings.shading.area_light && a->view.lights.empty()) settings.lights.clear();
 
     // --- Render.
     auto setup_start = std::chrono::steady_clock::now();
@@ -376,65 +390,68 @@ void add_render_command(CLI::App& app, int& exit_code) {
     for (const auto& p : frame.passes)
       passes.push_back({{"name", p.name}, {"ms", p.ms >= 0 ? nlohmann::json(p.ms) : nlohmann::json(nullptr)}});
     if (a->json) {
-      nlohmann::json out{{"file", a->input},
-                         {"output", a->output},
-                         {"width", frame.width},
-                         {"height", frame.height},
-                         {"mode", render::mode_name(*mode)},
-                         {"spp", forward ? settings.shading.spp : rays},
-                         {"shading", adaptive  ? "adaptive"
-                                     : forward ? "forward"
-                                               : "tracer"},
-                         {"adaptive", adaptive_pass ? adaptive_json(adaptive_pass->stats(), settings.adaptive)
-                                                    : nlohmann::json(nullptr)},
-                         {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
-                                                                            {"beta", settings.filter.beta},
-                                                                            {"sigma_n2", settings.filter.sigma_n2},
-                                                                            {"radius", settings.filter.radius},
-                                                                            {"upsample", a->filter.upsample}}
-                                                           : nlohmann::json(nullptr)},
-                         {"luminaires", settings.luminaire.luminaires.empty()
-                                            ? nlohmann::json(nullptr)
-                                            : nlohmann::json{{"files", a->luminaires.files},
-                                                             {"sampler", a->luminaires.sampler},
-                                                             {"spp", settings.luminaire.spp},
-                                                             {"kmax", settings.luminaire.kmax},
-                                                             {"visibility", a->luminaires.visibility},
-                                                             {"search", a->luminaires.search},
-                                                             {"sequence", a->luminaires.sequence}}},
-                         {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
-                         {"material", settings.shading.material
-                                          ? nlohmann::json::parse(render::material_json(*settings.shading.material))
-                                          : nlohmann::json(nullptr)},
-                         {"view", view_name},
-                         {"device", renderer->device_name()},
-                         {"device_type", renderer->device_type()},
-                         {"host", render::host_name(renderer->host())},
-                         {"ms", ms},
-                         {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
-                         {"repeats", a->repeats},
-                         {"ms_each", times},
-                         {"passes", passes},
-                         {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
-                         {"wall_ms", frame.wall_ms},
-                         {"warm_wall_ms",
-                          walls.empty() ? nlohmann::json(nullptr) : nlohmann::json(walls[walls.size() / 2])},
-                         {"load_ms", load_ms},
-                         {"setup_ms", setup_ms},
-                         {"covered_pixels", frame.covered_pixels},
-                         {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
-                         {"steps_per_pixel", frame.steps_per_pixel},
-                         {"shadows", settings.shadows},
-                         {"footprint_spread", settings.footprint_spread},
-                         {"curved_masks", settings.curved_masks},
-                         {"front_facing", settings.front_facing},
-                         {"element_normals", settings.element_normals},
-                         {"covered_part", settings.covered_part},
-                         {"shading_voxel", settings.shading_voxel},
-                         {"lights", lights_json(settings.lights)},
-                         {"camera", camera_json(settings.camera)},
-                         {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
-                         {"validation_messages", messages}};
+      nlohmann::json out{
+          {"file", a->input},
+          {"output", a->output},
+          {"width", frame.width},
+          {"height", frame.height},
+          {"mode", render::mode_name(*mode)},
+          {"spp", forward ? settings.shading.spp : rays},
+          {"msaa", settings.msaa},
+          {"shading", adaptive  ? "adaptive"
+                      : forward ? "forward"
+                                : "tracer"},
+          {"adaptive",
+           adaptive_pass ? adaptive_json(adaptive_pass->stats(), settings.adaptive) : nlohmann::json(nullptr)},
+          {"filter", uses_filter(a->filter) ? nlohmann::json{{"weight", a->filter.weight},
+                                                             {"beta", settings.filter.beta},
+                                                             {"sigma_n2", settings.filter.sigma_n2},
+                                                             {"radius", settings.filter.radius},
+                                                             {"upsample", a->filter.upsample}}
+                                            : nlohmann::json(nullptr)},
+          {"luminaires", settings.luminaire.luminaires.empty()
+                             ? nlohmann::json(nullptr)
+                             : nlohmann::json{{"files", a->luminaires.files},
+                                              {"sampler", a->luminaires.sampler},
+                                              {"spp", settings.luminaire.spp},
+                                              {"kmax", settings.luminaire.kmax},
+                                              {"visibility", a->luminaires.visibility},
+                                              {"search", a->luminaires.search},
+                                              {"sequence", a->luminaires.sequence}}},
+          {"env", a->lighting.env.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.env)},
+          {"area_light",
+           a->lighting.area_light.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->lighting.area_light)},
+          {"material", settings.shading.material
+                           ? nlohmann::json::parse(render::material_json(*settings.shading.material))
+                           : nlohmann::json(nullptr)},
+          {"view", view_name},
+          {"device", renderer->device_name()},
+          {"device_type", renderer->device_type()},
+          {"host", render::host_name(renderer->host())},
+          {"ms", ms},
+          {"ms_source", gpu_timed ? "gpu timestamps" : "wall clock"},
+          {"repeats", a->repeats},
+          {"ms_each", times},
+          {"passes", passes},
+          {"gpu_ms", gpu_timed ? nlohmann::json(frame.gpu_ms) : nlohmann::json(nullptr)},
+          {"wall_ms", frame.wall_ms},
+          {"warm_wall_ms", walls.empty() ? nlohmann::json(nullptr) : nlohmann::json(walls[walls.size() / 2])},
+          {"load_ms", load_ms},
+          {"setup_ms", setup_ms},
+          {"covered_pixels", frame.covered_pixels},
+          {"us_per_pixel", us_per_pixel >= 0 ? nlohmann::json(us_per_pixel) : nlohmann::json(nullptr)},
+          {"steps_per_pixel", frame.steps_per_pixel},
+          {"shadows", settings.shadows},
+          {"footprint_spread", settings.footprint_spread},
+          {"curved_masks", settings.curved_masks},
+          {"front_facing", settings.front_facing},
+          {"element_normals", settings.element_normals},
+          {"covered_part", settings.covered_part},
+          {"shading_voxel", settings.shading_voxel},
+          {"lights", lights_json(settings.lights)},
+          {"camera", camera_json(settings.camera)},
+          {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},
+          {"validation_messages", messages}};
       std::cout << out.dump() << "\n";
     } else {
       std::cout << std::fixed << std::setprecision(1) << a->input << " -> " << a->output << ": " << frame.width << "x"

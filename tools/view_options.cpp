@@ -402,7 +402,63 @@ void add_lighting_options(CLI::App& cmd, LightingOptions& o) {
       ->group("Light");
 }
 
-bool uses_lighting(const LightingOptions& o) { return !o.env.empty() || !o.material.empty(); }
+void add_area_light_options(CLI::App& cmd, LightingOptions& o) {
+  cmd.add_option("--area-light", o.area_light,
+                 "A textured planar area light (Bagher et al. 2013, Fig. 17), sampled directly by every shading "
+                 "sample: 'white', or an image (EXR, HDR, PNG, ...; at most 1024 texels a side) whose texels, linear "
+                 "RGB times --area-light-radiance, are its radiance. It emits from its front, towards "
+                 "--area-light-aim; the adaptive pass reads the texture's spatial bandwidth (zero-padded wavelets). "
+                 "Casts shadows with --shadows")
+      ->group("Light");
+  cmd.add_option("--area-light-at", o.area_at,
+                 "X,Y,Z: the area light's centre (default: 1.2 domain sizes above "
+                 "the domain's centre)")
+      ->group("Light");
+  cmd.add_option("--area-light-aim", o.area_aim, "X,Y,Z: the point it faces (default: the domain's centre)")
+      ->group("Light");
+  cmd.add_option("--area-light-size", o.area_size,
+                 "Its larger side in scene units, the other from the image's aspect (default: half the domain)")
+      ->check(CLI::Range(0.0f, 1.0e6f))
+      ->group("Light");
+  cmd.add_option("--area-light-radiance", o.area_radiance, "The radiance of a white texel")
+      ->check(CLI::Range(0.0f, 1.0e6f))
+      ->capture_default_str()
+      ->group("Light");
+}
+
+void apply_area_light(const LightingOptions& o, glm::vec3 centre, float size, render::RenderSettings& settings) {
+  const bool placed = !o.area_at.empty() || !o.area_aim.empty() || o.area_size > 0;
+  if (o.area_light.empty()) {
+    if (placed) throw std::invalid_argument("--area-light-at, -aim and -size need --area-light");
+    return;
+  }
+  if (settings.shading.preconvolved) throw std::invalid_argument("--area-light: not with --env-preconvolved");
+  uint32_t w = 1, h = 1;
+  std::vector<float> rgb{1.0f, 1.0f, 1.0f};
+  if (o.area_light != "white") {
+    render::Environment image;
+    try {
+      image = render::load_environment(o.area_light);
+    } catch (const std::exception& e) {
+      // load_environment's message, as the area light's.
+      std::string why = e.what();
+      const std::string prefix = "environment: ";
+      if (why.rfind(prefix, 0) == 0) why = why.substr(prefix.size());
+      throw std::runtime_error("--area-light: " + why);
+    }
+    w = image.width, h = image.height, rgb = std::move(image.rgb);
+  }
+  for (float& v : rgb) v *= o.area_radiance;
+  const glm::vec3 at =
+      o.area_at.empty() ? centre + glm::vec3(0.0f, 1.2f * size, 0.0f) : parse_point(o.area_at, "--area-light-at");
+  const glm::vec3 aim = o.area_aim.empty() ? centre : parse_point(o.area_aim, "--area-light-aim");
+  settings.shading.area_light = std::make_shared<const render::AreaLight>(render::AreaLight::placed(
+      at, aim, o.area_size > 0 ? o.area_size : 0.5f * size, w, h, std::move(rgb), o.area_light));
+  render::validate_area_light(*settings.shading.area_light);
+  settings.ambient = glm::vec3(0);
+}
+
+bool uses_lighting(const LightingOptions& o) { return !o.env.empty() || !o.material.empty() || !o.area_light.empty(); }
 
 bool shades_forward(const LightingOptions& o, const octree::Octree& tree) {
   return uses_lighting(o) || !tree.materials.empty();

@@ -40,8 +40,13 @@ struct LightingOptions {
   float env_scale = 1;   // --env-scale S
   std::string material;  // --material FILE.json
   bool env_shadows = false;
-  bool env_preconvolved = false;  // --env-preconvolved
+  bool env_preconvolved = false;     // --env-preconvolved
   std::string env_sampling = "mis";  // --env-sampling mis|brdf
+  // The area light (add_area_light_options; render and reference only).
+  std::string area_light;         // --area-light white|IMAGE
+  std::string area_at, area_aim;  // --area-light-at, --area-light-aim "X,Y,Z"
+  float area_size = 0;            // --area-light-size S (0: half the domain)
+  float area_radiance = 10;       // --area-light-radiance R
 };
 
 // The lobe-aware filter and upsampling (Tokuyoshi 2015, DESIGN 10.5):
@@ -124,7 +129,17 @@ void apply_luminaires(const LuminaireArgs& o, const octree::Octree* tree, render
 // without an octree: the source's bounds).
 void apply_luminaires(const LuminaireArgs& o, glm::vec3 centre, float size, render::RenderSettings& settings);
 
-// Whether an environment or a material is asked for.
+// The area light's options (group Light): --area-light, --area-light-at,
+// --area-light-aim, --area-light-size, --area-light-radiance.
+void add_area_light_options(CLI::App& cmd, LightingOptions& o);
+// Loads the area light's texture and places it about a domain of centre
+// `centre` and size `size`: by default half the domain across, 1.2 domain
+// sizes above the centre, facing it. The ambient term is then 0; the
+// commands drop the default lights unless --light is given.
+// @throw std::runtime_error naming the file; std::invalid_argument naming the option
+void apply_area_light(const LightingOptions& o, glm::vec3 centre, float size, render::RenderSettings& settings);
+
+// Whether an environment, a material or an area light is asked for.
 bool uses_lighting(const LightingOptions& o);
 // Whether a frame of `tree` shades with the forward pass by default: with an
 // environment or a material, or when the octree carries materials of its own.

@@ -23,6 +23,7 @@ namespace svo::math {
 // The environment and material of shaders/common, as the forward pass reads
 // them, for the reference's own sampling.
 struct ReferenceLighting : render::NativeShadingReader {
+#include "common/area_light.glsl"
 #include "common/environment.glsl"
 #include "common/material.glsl"
 #include "common/sequence.glsl"
@@ -377,6 +378,31 @@ glm::dvec3 shade_environment(const Geometry& geometry, svo::math::ReferenceLight
   return sum;
 }
 
+// One point of the area light (area_light.glsl, drawn as the forward pass
+// draws it, with uniform u) lighting the exact surface point `hit` seen
+// along -view, through a shadow ray to the point when `shadows`.
+glm::dvec3 shade_area_light(const Geometry& geometry, svo::math::ReferenceLighting& lit, bool shadows,
+                            const SurfaceHit& hit, glm::dvec3 view, glm::vec2 u) {
+  using namespace svo::math;
+  const auto a = lit.svo_area_sample(lit.shade, glm::vec3(hit.position), u);
+  if (!(a.pdf > 0)) return glm::dvec3(0);
+  const glm::vec3 n = hit.normal;
+  const SvoFrame f = svo_tangent_frame(n);
+  const glm::vec3 vw(view);
+  const glm::vec3 v(glm::dot(vw, f.t), glm::dot(vw, f.b), glm::dot(vw, n));
+  const glm::vec3 ll(glm::dot(a.l, f.t), glm::dot(a.l, f.b), glm::dot(a.l, n));
+  if (!(ll.z > 0)) return glm::dvec3(0);
+  const glm::vec3 fr = lit.svo_material_brdf(lit.svo_scene_material(hit.material), hit.colour, v, ll);
+  if (fr == glm::vec3(0)) return glm::dvec3(0);
+  if (shadows) {
+    const glm::dvec3 origin = hit.position + geometry.shadow_offset() * glm::dvec3(hit.normal);
+    const glm::dvec3 ray = glm::dvec3(hit.position) + double(a.dist) * glm::dvec3(a.l) - origin;
+    const double dist = glm::length(ray);
+    if (dist > 0 && geometry.occluded(origin, ray / dist, 0.0, dist * (1 - 1e-6))) return glm::dvec3(0);
+  }
+  return glm::dvec3(fr * a.radiance) * double(ll.z / a.pdf);
+}
+
 }  // namespace
 
 render::Frame render_reference(const Geometry& geometry, const ReferenceSettings& settings) {
@@ -390,7 +416,7 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
   if (!so.material && so.scene_materials.empty()) {
     so.scene_materials = render::parse_scene_materials(geometry.materials(), "the scene");
   }
-  const bool lighting = so.environment || so.material || !so.scene_materials.empty();
+  const bool lighting = so.environment || so.material || !so.scene_materials.empty() || so.area_light;
   // Luminaires shade with the materials' code too (the built-in material
   // when there is no other, as the luminaire pass).
   const render::ShadingTables tables =
@@ -461,6 +487,11 @@ render::Frame render_reference(const Geometry& geometry, const ReferenceSettings
                                  lit.svo_sample_1d(px, sd, i, 4), lit.svo_sample_1d(px, sd, i, 5),
                                  lit.svo_sample_1d(px, sd, i, 6)};
             sum += shade_environment(geometry, lit, so.env_shadows, *hit, -dir, u);
+          }
+          if (so.area_light) {
+            const uint32_t px = uint32_t(index), sd = uint32_t(settings.seed) ^ 0xA2EAu;
+            sum += shade_area_light(geometry, lit, c.shadows, *hit, -dir,
+                                    glm::vec2(lit.svo_sample_1d(px, sd, i, 8), lit.svo_sample_1d(px, sd, i, 9)));
           }
         }
         frame.colour[index] = glm::vec4(glm::vec3(sum / double(n)), float(double(covered) / double(n)));

@@ -58,6 +58,7 @@ struct AdaptivePass::Cache {
   uint64_t generation = ~uint64_t(0);  // of the shading tables the bandwidth tables were built from
   std::vector<float> tables;
   glm::uvec4 table_offsets{0};
+  glm::uvec4 area_offsets{0};
   uint32_t brdf_count = 0;
   // The Vulkan host's kernel and buffers.
   std::unique_ptr<vk::ComputeKernel> kernel;
@@ -71,11 +72,13 @@ namespace {
 
 // The bandwidth tables of the frame's environment and materials
 // (bandwidth.glsl's svo_bw_table): the environment's angular bandwidth map,
-// then 16^3 floats per material in the shading tables' order.
+// then 16^3 floats per material in the shading tables' order, then the
+// area light's spatial bandwidth grid (`area`: offset, width, height).
 void build_bandwidth_tables(const ShadingOptions& options, const std::vector<const Material*>& materials,
-                            std::vector<float>& tables, glm::uvec4& offsets, uint32_t& brdf_count) {
+                            std::vector<float>& tables, glm::uvec4& offsets, uint32_t& brdf_count, glm::uvec4& area) {
   tables.assign(1, 0.0f);  // offset 0 stays unused
   offsets = glm::uvec4(0);
+  area = glm::uvec4(0);
   if (options.environment) {
     const Environment& env = *options.environment;
     const uint32_t out = std::bit_floor(std::min(env.width, 256u));
@@ -89,6 +92,11 @@ void build_bandwidth_tables(const ShadingOptions& options, const std::vector<con
     tables.insert(tables.end(), b.begin(), b.end());
   }
   brdf_count = uint32_t(materials.size());
+  if (options.area_light) {
+    const AreaLightBandwidth bw = area_light_bandwidth(*options.area_light);
+    area = glm::uvec4(uint32_t(tables.size()), bw.width, bw.height, 0);
+    tables.insert(tables.end(), bw.cycles_per_unit.begin(), bw.cycles_per_unit.end());
+  }
 }
 
 template <class F>
@@ -139,7 +147,8 @@ double AdaptivePass::run(PassContext& ctx) {
   double tables_ms = 0;
   if (c.shading.generation() != c.generation) {
     const auto tables_start = std::chrono::steady_clock::now();
-    build_bandwidth_tables(ctx.settings.shading, c.shading.materials(), c.tables, c.table_offsets, c.brdf_count);
+    build_bandwidth_tables(ctx.settings.shading, c.shading.materials(), c.tables, c.table_offsets, c.brdf_count,
+                           c.area_offsets);
     c.generation = c.shading.generation();
     c.tables_buffer.reset();
     tables_ms = ms_since(tables_start);
@@ -159,6 +168,7 @@ double AdaptivePass::run(PassContext& ctx) {
   k.adapt.tables = c.table_offsets;
   const uint32_t side = o.bandwidth_block == 2 ? 2u : 1u;
   k.adapt.frame = glm::uvec4(0, c.brdf_count, side, 0);
+  k.adapt.area = c.area_offsets;
   k.bw_tables = c.tables.data();
   const ImageDesc bw_desc = bandwidth_image();
   std::array<uint32_t, SVO_ADAPTIVE_LEVELS> height{};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -247,6 +248,28 @@ EnvironmentBandwidth environment_bandwidth(const Environment& env, uint32_t out_
       t = std::max(t, float(double(cycles[size_t(y) * w + x]) * scale));
     }
   }
+  return out;
+}
+
+AreaLightBandwidth area_light_bandwidth(const AreaLight& light) {
+  validate_area_light(light);
+  const uint32_t k =
+      std::max(1u, (32u + std::max(light.width, light.height) - 1u) / std::max(light.width, light.height));
+  AreaLightBandwidth out;
+  out.width = light.width * k;
+  out.height = light.height * k;
+  std::vector<float> lum(size_t(out.width) * out.height);
+  for (uint32_t y = 0; y < out.height; ++y) {
+    for (uint32_t x = 0; x < out.width; ++x) {
+      lum[size_t(y) * out.width + x] = luminance(&light.rgb[3 * (size_t(y / k) * light.width + x / k)]);
+    }
+  }
+  WaveletOptions options;
+  options.zero_pad = true;
+  out.cycles_per_unit = wavelet_bandwidth(lum, out.width, out.height, options);
+  const double texel = std::min(double(glm::length(light.edge_u)) / out.width,  //
+                                double(glm::length(light.edge_v)) / out.height);
+  for (float& c : out.cycles_per_unit) c = float(double(c) / texel);
   return out;
 }
 

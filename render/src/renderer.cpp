@@ -8,8 +8,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include "common/shared_math.h"
 #include "display.comp.spv.h"
@@ -21,7 +23,7 @@ static_assert(kGBufferVec4s == svo::math::SVO_GBUFFER_VEC4S);
 
 GBufferTexel unpack_gbuffer(const glm::vec4* t) {
   const auto g = gbuffer_at(t);
-  return {g.depth,     g.position, g.normal, g.coverage,  g.tangent,   g.sigma_rho2,
+  return {g.depth,     g.position, g.normal, g.coverage, g.tangent,   g.sigma_rho2,
           g.slope_cov, g.abar,     g.a_s,    g.material, g.material2, g.material_mix};
 }
 
@@ -232,7 +234,51 @@ std::vector<std::string> Renderer::validation_messages() const {
   return context_ ? context_->validation_messages() : std::vector<std::string>{};
 }
 
+namespace {
+
+// The frame of `fine` (msaa x msaa samples per pixel) at the pixels' size:
+// colour the mean of each pixel's samples, steps their sum, times as they
+// are.
+Frame box_filtered(const Frame& fine, uint32_t msaa, uint32_t width, uint32_t height) {
+  Frame f;
+  f.width = width;
+  f.height = height;
+  f.colour.assign(size_t(width) * height, glm::vec4(0));
+  f.steps.assign(size_t(width) * height, 0);
+  const float weight = 1.0f / float(msaa * msaa);
+  for (uint32_t y = 0; y < fine.height; ++y) {
+    for (uint32_t x = 0; x < fine.width; ++x) {
+      const size_t from = size_t(y) * fine.width + x, to = size_t(y / msaa) * width + x / msaa;
+      f.colour[to] += weight * fine.colour[from];
+      f.steps[to] += fine.steps[from];
+    }
+  }
+  f.passes = fine.passes;
+  f.ms = fine.ms;
+  f.gpu_ms = fine.gpu_ms;
+  f.wall_ms = fine.wall_ms;
+  finish_frame_stats(f);
+  return f;
+}
+
+}  // namespace
+
 Frame Renderer::render(const RenderSettings& requested) {
+  if (requested.msaa != 1) {
+    if (requested.msaa != 2 && requested.msaa != 4)
+      throw std::invalid_argument("msaa " + std::to_string(requested.msaa) + ": 1, 2 or 4 samples per pixel side");
+    if (requested.gbuffer || requested.display)
+      throw std::invalid_argument(
+          "msaa: the G-buffer and the display image would be at the samples' size; ask for "
+          "them without multisampling");
+    if (requested.width > UINT32_MAX / requested.msaa || requested.height > UINT32_MAX / requested.msaa)
+      throw std::invalid_argument("msaa: the frame's samples overflow");
+    RenderSettings fine = requested;
+    fine.msaa = 1;
+    fine.width *= requested.msaa;
+    fine.height *= requested.msaa;
+    return box_filtered(render(fine), requested.msaa, requested.width, requested.height);
+  }
   auto start = std::chrono::steady_clock::now();
   RenderSettings settings = requested;
   settings.gbuffer = settings.gbuffer || gbuffer_read_;

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -183,6 +184,50 @@ uint32_t append_environment_distribution(const Environment& env, std::vector<flo
     }
   }
   return append_distribution(f, env.width, env.height, tables);
+}
+
+AreaLight AreaLight::placed(glm::vec3 at, glm::vec3 aim, float size, uint32_t width, uint32_t height,
+                            std::vector<float> rgb, std::string source) {
+  AreaLight a;
+  a.width = width;
+  a.height = height;
+  a.rgb = std::move(rgb);
+  a.source = std::move(source);
+  a.centre = at;
+  const glm::vec3 d = aim - at;
+  const float dl = glm::length(d);
+  if (!(dl > 0) || !std::isfinite(dl) || !(size > 0) || !std::isfinite(size))
+    throw std::invalid_argument("area light: " + a.source + ": its position, aim and size must be finite, the aim " +
+                                "apart from the position and the size above 0");
+  const glm::vec3 n = d / dl;
+  // edge_v towards +Y where the light does not face along Y, else -Z; then
+  // edge_u x edge_v = n (front towards the aim).
+  const glm::vec3 helper = std::abs(n.y) < 0.999f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, -1);
+  const glm::vec3 v = glm::normalize(helper - glm::dot(helper, n) * n);
+  const glm::vec3 u = glm::cross(v, n);
+  const float aspect = float(width) / float(std::max(height, 1u));
+  const float su = aspect >= 1 ? size : size * aspect, sv = aspect >= 1 ? size / aspect : size;
+  a.edge_u = su * u;
+  a.edge_v = sv * v;
+  return a;
+}
+
+void validate_area_light(const AreaLight& a) {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument("area light: " + a.source + ": " + why); };
+  auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(a.centre) || !finite(a.edge_u) || !finite(a.edge_v)) fail("a NaN or Inf in its position or edges");
+  const glm::vec3 c = glm::cross(a.edge_u, a.edge_v);
+  if (!(glm::length(c) > 0) || !std::isfinite(glm::length(c))) fail("its edges span no area");
+  if (a.width == 0 || a.height == 0 || a.width > 1024 || a.height > 1024)
+    fail("its texture must be 1 to 1024 texels a side, not " + std::to_string(a.width) + "x" +
+         std::to_string(a.height));
+  if (a.rgb.size() != size_t(a.width) * a.height * 3) fail("its texels do not match its size");
+  double total = 0;
+  for (float v : a.rgb) {
+    if (!std::isfinite(v) || v < 0) fail("a texel negative, NaN or Inf");
+    total += v;
+  }
+  if (!(total > 0)) fail("black everywhere: it would light nothing");
 }
 
 const char* brdf_name(BrdfKind kind) {
@@ -408,6 +453,23 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     p.env.w = append_environment_distribution(env, t.floats);
     p.env_xform = glm::vec4(glm::radians(o.env_rotate_deg), o.env_scale, 0, 0);
     if (o.preconvolved) p.env_xform.z = std::bit_cast<float>(append_preconvolved(*o.preconvolved, t.floats));
+  }
+  if (o.area_light) {
+    const AreaLight& a = *o.area_light;
+    validate_area_light(a);
+    if (o.preconvolved) throw std::invalid_argument("area light: not with the pre-convolved environment");
+    const auto texels = uint32_t(t.floats.size());
+    t.floats.insert(t.floats.end(), a.rgb.begin(), a.rgb.end());
+    std::vector<float> f(size_t(a.width) * a.height);
+    for (size_t i = 0; i < f.size(); ++i) {
+      const float* c = &a.rgb[3 * i];
+      // Colours whose luminance rounds to 0 keep a pdf > 0 (as the map's).
+      f[i] = luminance(c) > 0 ? luminance(c) : std::max({c[0], c[1], c[2]}) * 1e-3f;
+    }
+    p.area = glm::uvec4(a.width, a.height, 0, append_distribution(f, a.width, a.height, t.floats));
+    p.area_centre = glm::vec4(a.centre, std::bit_cast<float>(texels));
+    p.area_u = glm::vec4(a.edge_u, 0);
+    p.area_v = glm::vec4(a.edge_v, 0);
   }
   // A measured BRDF's tables, once per material: its values, sampling
   // tables and SG fit (lobe_filter.glsl: count, then sharpness and

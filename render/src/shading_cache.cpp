@@ -21,7 +21,7 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
   // with the file's (or --roughness's) micro-BRDF slope variance.
   const Material fallback = builtin_material(ctx.settings.specular, octree.params(ctx.settings).material.x);
   const bool same = valid_ && environment_ == options.environment && preconvolved_ == options.preconvolved &&
-                    material_ == options.material &&
+                    area_light_ == options.area_light && material_ == options.material &&
                     (options.material || !scene_materials_.empty() ||
                      (default_material_.f0 == fallback.f0 && default_material_.roughness == fallback.roughness));
   // Scene materials given in the options (not the octree's) are compared by identity too.
@@ -29,6 +29,7 @@ ShadingTables& ShadingCache::update(const PassContext& ctx) {
     tables_ = build_shading_tables(options, fallback, ctx.settings.shadows);
     environment_ = options.environment;
     preconvolved_ = options.preconvolved;
+    area_light_ = options.area_light;
     material_ = options.material;
     default_material_ = fallback;
     given_scene_ = ctx.settings.shading.scene_materials;

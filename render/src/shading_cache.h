@@ -35,6 +35,7 @@ class ShadingCache {
   // take a freed one's address and pass for it.
   std::shared_ptr<const Environment> environment_;
   std::shared_ptr<const PreconvolvedEnvironment> preconvolved_;
+  std::shared_ptr<const AreaLight> area_light_;
   std::shared_ptr<const Material> material_;
   Material default_material_;
   const octree::Octree* scene_ = nullptr;  // whose materials scene_materials_ holds

@@ -27,6 +27,15 @@ SVO_FN float svo_bw_environment(vec3 d) {
   return svo_bw_table(adapt.tables.x + y * adapt.tables.y + x);
 }
 
+// The area light's spatial bandwidth (cycles per scene unit, on its plane)
+// at uv (svo_area_sample's), 0 without the grid.
+SVO_FN float svo_bw_area(vec2 uv) {
+  if (adapt.area.z == 0u) return 0.0f;
+  uint x = min(uint(max(uv.x, 0.0f) * float(adapt.area.y)), adapt.area.y - 1u);
+  uint y = min(uint(max(uv.y, 0.0f) * float(adapt.area.z)), adapt.area.z - 1u);
+  return svo_bw_table(adapt.area.x + y * adapt.area.y + x);
+}
+
 // The BRDF's angular bandwidth (cycles per radian) for light from ll seen
 // from vl, both in the lobe's frame: the nearest entry of material
 // `index`'s table (render::brdf_bandwidth), 16 view elevations x 16 x 16
@@ -95,10 +104,17 @@ SVO_FN float svo_bw_texture(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoGBuff
 // the pixel's luminance as the n_b directions estimate it), w the
 // screen-space curvature (radians per pixel). The n_b directions are drawn
 // from the environment and the BRDF (one-sample mixture, density the
-// average of the two), weighted by lambda_i = L_i rho cos / pdf (Eq. 5, so
+// average of the two; the BRDF alone with SVO_SHADE_BRDF_SAMPLING, whose
+// samples draw one direction), weighted by lambda_i = L_i rho cos / pdf (Eq. 5, so
 // that the weighted mean estimates the integral's); the lights count as
 // directions of unbounded angular bandwidth in Eq. 5 and add no variance
-// (every sample evaluates them). With the pre-convolved map, a measured
+// (every sample evaluates them). The area light adds n_b directions of
+// its own, drawn as a sample draws its point (svo_area_sample): its light
+// leaves with the texture's spatial bandwidth over the ray's cosine and
+// none angular, and is transported to the point (Eq. 4, T_d with d the
+// distance; Bagher et al. section 4.3); its estimator's variance adds to
+// the environment's (a sample draws one point of it besides its
+// directions). With the pre-convolved map, a measured
 // BRDF's directions are drawn from it alone and read the map filtered at
 // kappa (Eq. 10: the light's band is at most the kernel's; the measured
 // variance is of one such direction, as a sample draws one), and the
@@ -137,11 +153,17 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
   float sum_var = 0.0f;
   float sum_x = 0.0f;  // the n_b directions' estimates chi / pdf, and their squares
   float sum_x2 = 0.0f;
-  for (uint i = 0u; i < nb + params.tree.w; ++i) {
+  float sum_a = 0.0f;  // the same of the area light's n_b points
+  float sum_a2 = 0.0f;
+  uint lights = nb + params.tree.w;
+  uint na = shade.area.y != 0u ? nb : 0u;
+  for (uint i = 0u; i < lights + na; ++i) {
     vec3 l;
     float pdf = 1.0f;
     vec3 radiance;
-    float nu_light;
+    float nu_light;          // the light's angular bandwidth at the point
+    vec2 nu_l = vec2(0.0f);  // and as it leaves the light, over distance d_l
+    float d_l = 0.0f;
     if (i < nb) {
       if (shade.env.y == 0u) continue;
       vec2 u = svo_sample_2d(pixel, seed, i, 0u);
@@ -160,11 +182,22 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
       if (!(pdf > 0.0f)) continue;
       radiance = svo_env_filtered(l, kappa);
       nu_light = min(svo_bw_environment(l), kernel_limit);
-    } else {
+      nu_l.y = nu_light;
+    } else if (i < lights) {
       SvoLightSample light = svo_light_at(i - nb, p.position);
       l = light.l;
       radiance = light.e;
       nu_light = SVO_BW_INFINITE;
+      nu_l.y = nu_light;
+    } else {
+      SvoAreaSample a = svo_area_sample(shade, p.position, svo_sample_2d(pixel, seed, i - lights, 4u));
+      if (!(a.pdf > 0.0f)) continue;
+      l = a.l;
+      pdf = a.pdf;
+      radiance = a.radiance;
+      nu_l = svo_bw_outgoing(vec2(svo_bw_area(a.uv), 0.0f), a.cos_l);
+      d_l = a.dist;
+      nu_light = svo_bw_transport(nu_l, d_l).y;
     }
     float cos_i = dot(l, p.n);
     if (!(cos_i > 0.0f)) continue;
@@ -173,17 +206,22 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
     if (!(chi > 0.0f)) continue;
     vec3 ll = svo_to_lobe(lobe, l);
     float rho = min(svo_bw_brdf(g.material, ll, vs), slope_rho);
-    vec2 nu = svo_bw_one_bounce(vec2(0.0f, nu_light), 0.0f, g.depth, curvature, cos_i, cos_x, t, rho);
-    // Monte Carlo weights: lambda_i / pdf for the n_b directions, the
-    // lights' (deltas) as they are, each over the directions' count.
-    float w = i < nb ? 1.0f / (pdf * float(nb)) : 1.0f;
+    vec2 nu = svo_bw_one_bounce(nu_l, d_l, g.depth, curvature, cos_i, cos_x, t, rho);
+    // Monte Carlo weights: lambda_i / pdf for the n_b directions and the
+    // area light's n_b points, the lights' (deltas) as they are, each over
+    // its count.
+    bool lamp = i >= nb && i < lights;
+    float w = lamp ? 1.0f : 1.0f / (pdf * float(nb));
     sum_lambda += w * chi;
     sum_nu += w * chi * nu.y;
     // The lights are evaluated, not sampled: no variance.
+    if (!lamp) sum_var += w * svo_bw_variance_term(nu_light, rho, chi);
     if (i < nb) {
-      sum_var += w * svo_bw_variance_term(nu_light, rho, chi);
       sum_x += chi / pdf;
       sum_x2 += (chi / pdf) * (chi / pdf);
+    } else if (!lamp) {
+      sum_a += chi / pdf;
+      sum_a2 += (chi / pdf) * (chi / pdf);
     }
   }
   float nu_a = sum_lambda > 0.0f ? sum_nu / sum_lambda : 0.0f;
@@ -201,6 +239,8 @@ SVO_FN vec4 svo_bandwidth_texel(SvoGBuffer g, SvoGBuffer x0, SvoGBuffer x1, SvoG
     // one from the BRDF alone.
     float mean = sum_x / float(nb);
     rel = (brdf_only ? 1.0f : 0.5f) * max(sum_x2 / float(nb) - mean * mean, 0.0f) / norm;
+    float mean_a = sum_a / float(nb);
+    if (na > 0u) rel += max(sum_a2 / float(nb) - mean_a * mean_a, 0.0f) / norm;
   }
   // The analytic lobes against the pre-convolved map: one lookup each
   // (svo_forward_preconvolved), whatever the count.

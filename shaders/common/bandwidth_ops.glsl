@@ -138,6 +138,8 @@ struct SvoAdaptiveParams {
                  // w: table offset of the BRDF bandwidth tables (16^3 floats per material, in the scene's order)
   uvec4 frame;   // x: the level a dispatch works on, y: the BRDF tables' count, z: the side of the blocks the
                  // bandwidth buffer's estimates are made for (1: every pixel; 2: one per 2x2 pixels)
+  uvec4 area;    // the area light's spatial bandwidth grid (render::area_light_bandwidth): x its table offset,
+                 // y its width, z its height (0: none)
 };
 
 #endif

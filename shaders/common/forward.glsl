@@ -2,7 +2,8 @@
 // covered pixel of the G-buffer shaded with a fixed number of samples of the
 // environment and the material, combined by multiple importance sampling
 // (power heuristic, one BRDF sample and one environment sample each), plus
-// the lights; the background is the environment seen through the pixel.
+// the lights, and one point per sample of the area light (area_light.glsl);
+// the background is the environment seen through the pixel.
 // Each pixel shades with its materials (the G-buffer's two and their mix,
 // svo_scene_material). Host
 // contract: tracer.glsl's (params, the octree, for visibility cones), plus
@@ -16,6 +17,7 @@
 // Smith masking and the Eq. 17 colour abar(v, l) per light direction.
 #ifndef SVO_FORWARD_GLSL
 #define SVO_FORWARD_GLSL
+#include "area_light.glsl"
 #include "environment.glsl"
 #include "gbuffer.glsl"
 #include "material.glsl"
@@ -26,16 +28,16 @@
 
 // A G-buffer point as the samples see it.
 struct SvoShadingPoint {
-  vec3 v;         // unit, towards the eye
-  vec3 n;         // unit mean normal
-  vec3 tx;        // principal axes of the voxel slopes
+  vec3 v;   // unit, towards the eye
+  vec3 n;   // unit mean normal
+  vec3 tx;  // principal axes of the voxel slopes
   vec3 ty;
-  vec2 sn2;       // voxel slope variances along tx, ty
-  vec3 vl;        // v in (tx, ty, n)
+  vec2 sn2;  // voxel slope variances along tx, ty
+  vec3 vl;   // v in (tx, ty, n)
   float lambda_v;
   vec3 abar;
   vec3 a_s;
-  float radius;   // the pixel's footprint radius at the point
+  float radius;  // the pixel's footprint radius at the point
   vec3 position;
 };
 
@@ -317,6 +319,17 @@ SVO_FN SvoForwardSum svo_forward_samples_of(SvoGBuffer g, uint pixel, uint first
     SvoForwardSum lit = svo_forward_lights(p, lobe, light_shadows);
     sum.diffuse += lit.diffuse;
     sum.specular += lit.specular;
+    // One point of the area light, drawn from its texels (Bagher et al.'s
+    // direct sampling of area lights, section 4.3).
+    if (shade.area.y != 0u) {
+      SvoAreaSample a = svo_area_sample(shade, p.position, svo_sample_2d(pixel, seed, i, 8u));
+      if (a.pdf > 0.0f) {
+        SvoForwardSum f = svo_forward_brdf_cos(p, lobe, a.l);
+        vec3 k = a.radiance / a.pdf;
+        if (svo_forward_sum_total(f) > 0.0f && light_shadows) k *= svo_forward_visible(p, a.l, a.dist, 0.0f);
+        sum = svo_forward_madd(sum, f, k);
+      }
+    }
     if (shade.env.y == 0u) continue;
     // A measured BRDF against the pre-convolved map (Eq. 10): the map
     // filtered at kappa, seen through a cone as wide as the kernel, and

@@ -267,6 +267,87 @@ TEST_F(ForwardOnBothHosts, PreconvolvedMeasuredBrdfReadsTheFilteredMap) {
 // A scene with five materials (its own, carried by the octree): both hosts
 // look up the same materials into the G-buffer and shade each pixel with
 // its own.
+// The irradiance at the foot of the normal from the centre of a square of
+// side `side` at height h, parallel to the plane, of radiance 1: pi times
+// the form factor, four times the corner's (Howell's catalogue, C-11).
+double square_irradiance(double side, double h) {
+  const double a = 0.5 * side / h;
+  const double r = std::sqrt(1 + a * a);
+  return 4 * 0.5 * (2 * a / r * std::atan(a / r));
+}
+
+// An area light (Bagher et al. 2013, Fig. 17) sampled directly: a Lambert
+// plane under a white square light parallel to it reflects albedo x L x
+// the form factor at the foot of the light's normal, on both hosts; turned
+// away, it lights nothing; a texture's texels are its radiance.
+TEST(ForwardAreaLight, ALambertPlaneReflectsTheSquaresFormFactor) {
+  test::HalfSpaceScene half({glm::vec3(-1.0f), glm::vec3(1.0f)});  // the face x = 0, colour 0.6
+  const octree::Octree tree = test::voxelize(half, 64);
+  vk::ContextOptions options;
+  options.device = "llvmpipe";
+  options.validation = true;
+  vk::Context context(options);
+  std::vector<std::unique_ptr<Renderer>> renderers;
+  renderers.push_back(std::make_unique<NativeRenderer>(tree));
+  renderers.push_back(std::make_unique<GpuRenderer>(context, tree));
+  for (auto& r : renderers) r->add_pass(make_pass("forward"));
+  Material white;
+  white.kind = BrdfKind::Lambert;
+  white.diffuse = glm::vec3(1.0f / 0.6f);  // times the plane's abar 0.6: albedo 1
+  const float side = 0.4f, h = 0.3f, radiance = 2.0f;
+  RenderSettings s;
+  s.width = s.height = 16;
+  s.camera = test::looking_at_origin({1.2f, 0.25f, 0.35f}, 10.0f);
+  s.lights.clear();
+  s.ambient = glm::vec3(0);
+  s.shading.material = std::make_shared<const Material>(white);
+  s.shading.spp = 1024;
+  auto light = [&](glm::vec3 aim, std::vector<float> rgb, uint32_t w) {
+    const auto rows = uint32_t(rgb.size() / 3 / w);
+    return std::make_shared<const AreaLight>(AreaLight::placed({h, 0.0f, 0.0f}, aim, side, w, rows, rgb, "test"));
+  };
+  const double expected = radiance * square_irradiance(side, h) / M_PI;  // albedo 1: E / pi
+  std::vector<glm::vec4> centre(2);
+  for (size_t host = 0; host < 2; ++host) {
+    Renderer& r = *renderers[host];
+    s.shading.area_light = light({0.0f, 0.0f, 0.0f}, {radiance, radiance, radiance}, 1);
+    const Frame f = r.render(s);
+    // The four pixels about the frame's centre see the foot of the normal,
+    // where the irradiance is flat.
+    glm::vec4 c(0);
+    for (uint32_t y = 7; y <= 8; ++y)
+      for (uint32_t x = 7; x <= 8; ++x) c += 0.25f * f.colour[y * 16 + x];
+    centre[host] = c;
+    std::printf("%s: %.5f at the foot, closed form %.5f\n", host_name(r.host()), double(c.g), expected);
+    EXPECT_NEAR(c.g, expected, 0.02 * expected) << host_name(r.host());
+    // Turned away from the plane: nothing.
+    s.shading.area_light = light({1.0f, 0.0f, 0.0f}, {radiance, radiance, radiance}, 1);
+    const Frame away = r.render(s);
+    float most = 0;
+    for (const auto& p : away.colour) most = std::max(most, p.r + p.g + p.b);
+    EXPECT_EQ(most, 0.0f) << host_name(r.host());
+    // A 2 x 2 checker of radiances 2L and 0: at the foot each quadrant
+    // gives a quarter of the square's light, so two of them at 2L give the
+    // same; the importance sampling never draws the black ones.
+    const float l2 = 2 * radiance;
+    s.shading.area_light = light({0.0f, 0.0f, 0.0f}, {l2, l2, l2, 0, 0, 0, 0, 0, 0, l2, l2, l2}, 2);
+    const Frame half_lit = r.render(s);
+    glm::vec4 hc(0);
+    for (uint32_t y = 7; y <= 8; ++y)
+      for (uint32_t x = 7; x <= 8; ++x) hc += 0.25f * half_lit.colour[y * 16 + x];
+    EXPECT_NEAR(hc.g, expected, 0.02 * expected) << host_name(r.host()) << ": the quadrants' sum by symmetry";
+  }
+  EXPECT_NEAR(centre[0].g, centre[1].g, 1e-3 * expected);
+  // Refused: a light without area, a black one, with the pre-convolved map.
+  AreaLight flat;
+  flat.edge_v = flat.edge_u;
+  EXPECT_THROW(validate_area_light(flat), std::invalid_argument);
+  AreaLight black;
+  black.rgb = {0, 0, 0};
+  EXPECT_THROW(validate_area_light(black), std::invalid_argument);
+  EXPECT_THROW(AreaLight::placed({0, 1, 0}, {0, 1, 0}, 1.0f, 1, 1, {1, 1, 1}, "test"), std::invalid_argument);
+}
+
 TEST(ForwardMaterials, BothHostsShadeEachPixelWithItsMaterials) {
   const auto scene = voxelizer::make_scene("material-spheres");
   const octree::Octree tree = test::voxelize(*scene, 64);

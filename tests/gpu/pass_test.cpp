@@ -131,6 +131,50 @@ TEST_F(PassesOnBothHosts, TheSameChainAgreesOnBothHosts) {
   }
 }
 
+// Multisampling (RenderSettings::msaa): on both hosts the frame is the box
+// filter of the same chain at 2x2 (4x4) samples per pixel, each a cone as
+// narrow as the sample; a silhouette pixel's coverage is then the mean of
+// its samples'. Other sample counts, and the G-buffer or display images
+// with multisampling, are refused.
+TEST_F(PassesOnBothHosts, MultisamplingIsTheBoxFilterOfTheSamples) {
+  for (auto& r : renderers_) {
+    for (uint32_t m : {2u, 4u}) {
+      RenderSettings s = settings({0.5f, 0.5f, 2.5f});
+      s.width = 20;
+      s.height = 16;
+      RenderSettings fine = s;
+      fine.width *= m;
+      fine.height *= m;
+      s.msaa = m;
+      const Frame f = r->render(s), samples = r->render(fine);
+      ASSERT_EQ(f.width, 20u);
+      ASSERT_EQ(f.colour.size(), size_t(20 * 16));
+      // The chain's images are at the samples' size.
+      EXPECT_EQ(r->images().width(), 20u * m);
+      double worst = 0;
+      uint32_t partial = 0;
+      for (uint32_t y = 0; y < f.height; ++y)
+        for (uint32_t x = 0; x < f.width; ++x) {
+          glm::vec4 mean(0);
+          for (uint32_t j = 0; j < m; ++j)
+            for (uint32_t i = 0; i < m; ++i) mean += samples.colour[size_t(y * m + j) * fine.width + x * m + i];
+          mean /= float(m * m);
+          const glm::vec4 c = f.colour[size_t(y) * f.width + x];
+          worst = std::max(worst, double(glm::length(c - mean)));
+          partial += c.a > 0.01f && c.a < 0.99f ? 1 : 0;
+        }
+      EXPECT_LT(worst, 1e-6) << host_name(r->host()) << ", msaa " << m;
+      EXPECT_GT(partial, 10u) << host_name(r->host()) << ": a silhouette of partly covered pixels";
+    }
+    RenderSettings bad = settings({0.5f, 0.5f, 2.5f});
+    bad.msaa = 3;
+    EXPECT_THROW(r->render(bad), std::invalid_argument);
+    bad.msaa = 2;
+    bad.gbuffer = true;
+    EXPECT_THROW(r->render(bad), std::invalid_argument);
+  }
+}
+
 TEST_F(PassesOnBothHosts, AnAddedPassRunsOnBothHostsAfterTheTracerAndBeforeTheDisplay) {
   RenderSettings s = settings({0.5f, 0.5f, 2.5f});
   s.display = true;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -164,6 +165,34 @@ double equator_median(const svo::render::EnvironmentBandwidth& b) {
                          b.cycles_per_radian.begin() + ptrdiff_t(b.height / 2 + 1) * b.width);
   std::nth_element(row.begin(), row.begin() + ptrdiff_t(row.size() / 2), row.end());
   return row[row.size() / 2];
+}
+
+// An area light's spatial bandwidth (render::area_light_bandwidth): a
+// white light reads low inside (its own size) and its outline at the grid's finest bands;
+// in cycles per scene unit, so a light half as large reads twice as high;
+// a checkered texture reads high inside too.
+TEST(AreaLightBandwidth, TheOutlineOfAWhiteLightAndTheCheckersOfATexturedOne) {
+  using svo::render::AreaLight;
+  const AreaLight white = AreaLight::placed({0, 1, 0}, {0, 0, 0}, 1.0f, 1, 1, {1, 1, 1}, "white");
+  const auto bw = svo::render::area_light_bandwidth(white);
+  ASSERT_EQ(bw.width, 32u);
+  ASSERT_EQ(bw.height, 32u);
+  const float inside = bw.cycles_per_unit[16 * 32 + 16], edge = bw.cycles_per_unit[16 * 32];
+  std::printf("white light: %.3f cycles per unit inside, %.3f at its edge\n", inside, edge);
+  EXPECT_LT(inside, 1.0f);  // the light as a whole, about a cycle over twice its width
+  EXPECT_GT(edge, 4.0f);    // at least 1/8 cycle per texel of 1/32 unit
+  EXPECT_GT(edge, 8 * inside);
+  const AreaLight small = AreaLight::placed({0, 1, 0}, {0, 0, 0}, 0.5f, 1, 1, {1, 1, 1}, "small");
+  EXPECT_NEAR(svo::render::area_light_bandwidth(small).cycles_per_unit[16 * 32], 2 * edge, 1e-3 * edge);
+  std::vector<float> checker(8 * 8 * 3);
+  for (uint32_t i = 0; i < 64; ++i)
+    for (uint32_t c = 0; c < 3; ++c) checker[3 * i + c] = (i % 8 + i / 8) % 2 == 0 ? 1.0f : 0.0f;
+  const auto cb =
+      svo::render::area_light_bandwidth(AreaLight::placed({0, 1, 0}, {0, 0, 0}, 1.0f, 8, 8, checker, "checker"));
+  ASSERT_EQ(cb.width, 32u);  // each texel repeated 4 x 4
+  EXPECT_GT(cb.cycles_per_unit[16 * 32 + 16], 1.0f);
+  const AreaLight bad = AreaLight::placed({0, 1, 0}, {0, 0, 0}, 1.0f, 1, 1, {0, 0, 0}, "black");
+  EXPECT_THROW(svo::render::area_light_bandwidth(bad), std::invalid_argument);
 }
 
 TEST(EnvironmentBandwidth, ConstantIsZeroAndStripesScaleWithTheirCount) {

@@ -104,6 +104,21 @@ struct EnvironmentBandwidth {
 //        does not match, a NaN or Inf texel, a bad out_width.
 EnvironmentBandwidth environment_bandwidth(const Environment& env, uint32_t out_width = 64);
 
+// The spatial bandwidth of an area light (Sec. 2.3, "Local light sources",
+// Fig. 6), in cycles per scene unit, per texel of a grid laid out as the
+// light's texture: wavelet_bandwidth of the texels' luminance, zero-padded
+// so that the light's outline counts, each texel first repeated k x k times
+// (k the smallest with the longer side at least 32 texels, so that a solid
+// light's edge is a band of its own), divided by the smaller side of a grid
+// texel in scene units. A solid light reads 0 inside and up to 1/4 cycle
+// per grid texel at its outline.
+// @throw std::invalid_argument (validate_area_light's messages)
+struct AreaLightBandwidth {
+  uint32_t width = 0, height = 0;
+  std::vector<float> cycles_per_unit;  // width * height, row-major, row 0 as the texture's
+};
+AreaLightBandwidth area_light_bandwidth(const AreaLight& light);
+
 // The layout of brdf_bandwidth's table (what the shaders read).
 inline constexpr uint32_t kBrdfBandwidthTheta = 16, kBrdfBandwidthSlice = 16;
 

@@ -93,9 +93,16 @@ struct RenderSettings {
   // Prefiltered mode: the voxel size, in cone radii, of the level shading
   // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
   float shading_voxel = 1.0f;
-  uint32_t spp = 1;           // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
-  bool gbuffer = false;       // trace the G-buffer and fill Frame::gbuffer
-  bool display = false;       // run the display pass and fill Frame::display
+  uint32_t spp = 1;      // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
+  bool gbuffer = false;  // trace the G-buffer and fill Frame::gbuffer
+  bool display = false;  // run the display pass and fill Frame::display
+  // Multisample anti-aliasing: 1, 2 or 4 samples per pixel side. Above 1
+  // the chain runs at msaa x msaa samples per pixel (a cone per sample, as
+  // narrow as the sample) and Frame::colour is their box-filtered mean;
+  // the passes' images stay at the samples' size. Forward shading then
+  // shades every sample; adaptive shading only where the predicted
+  // bandwidth asks for more than a pixel (Bagher et al. 2013, Fig. 19).
+  uint32_t msaa = 1;
   uint32_t max_steps = 4096;  // per pixel, a safety bound on cone elements
   // The shading passes' environment, material and sampling (ForwardPass).
   ShadingOptions shading;
@@ -120,9 +127,9 @@ struct GBufferTexel {
   glm::vec3 slope_cov{0};  // (xx, yy, xy) in (tangent, normal x tangent), without sigma_rho2
   glm::vec3 abar{0};
   glm::vec3 a_s{0};
-  uint32_t material = 0;    // the material the pixel shows most (an index into the scene's materials)
-  uint32_t material2 = 0;   // the second
-  float material_mix = 0;   // the first's share of the two (0 where nothing is covered)
+  uint32_t material = 0;   // the material the pixel shows most (an index into the scene's materials)
+  uint32_t material2 = 0;  // the second
+  float material_mix = 0;  // the first's share of the two (0 where nothing is covered)
   // The mean per-axis slope variance with the micro-BRDF's.
   float slope_variance() const { return 0.5f * (slope_cov.x + slope_cov.y) + sigma_rho2; }
 };

@@ -73,6 +73,32 @@ struct PreconvolvedEnvironment {
 };
 PreconvolvedEnvironment preconvolve_environment(const Environment& env);
 
+// A textured planar area light (Bagher et al. 2013, section 4.3, Fig. 17;
+// shaders/common/area_light.glsl): a parallelogram of centre `centre` and
+// edge vectors `edge_u`, `edge_v`, emitting from its front side (towards
+// edge_u x edge_v) the radiance of its texture, piecewise constant over the
+// texels, row 0 along the +edge_v edge. Every shading sample draws one point
+// of it from the texels' luminance; its spatial bandwidth (the texture's,
+// zero-padded, render::area_light_bandwidth) enters the adaptive pass's
+// bandwidth by transport from the light (Eq. 4).
+struct AreaLight {
+  glm::vec3 centre{0.0f, 2.0f, 0.0f};
+  glm::vec3 edge_u{1.0f, 0.0f, 0.0f};
+  glm::vec3 edge_v{0.0f, 0.0f, -1.0f};  // front: edge_u x edge_v = -Y, down
+  uint32_t width = 1, height = 1;
+  // width * height (each 1 to 1024) * 3 radiances, finite, >= 0, not all 0
+  std::vector<float> rgb{1.0f, 1.0f, 1.0f};
+  std::string source = "white";
+  // The light of `size` across (its larger side; the texture's aspect) at
+  // `at` facing `aim`, edge_v as close to +Y as the facing allows (to -Z
+  // when it faces along Y).
+  static AreaLight placed(glm::vec3 at, glm::vec3 aim, float size, uint32_t width, uint32_t height,
+                          std::vector<float> rgb, std::string source);
+};
+// Checks the light's geometry and texels.
+// @throw std::invalid_argument "area light: SOURCE: why" (one line)
+void validate_area_light(const AreaLight& light);
+
 enum class BrdfKind : uint32_t { Lambert = 0, Beckmann = 1, Ggx = 2, Phong = 3, Merl = 4 };
 const char* brdf_name(BrdfKind kind);  // "lambert", ...
 
@@ -156,6 +182,10 @@ struct ShadingOptions {
   // instead of two. Measured BRDFs against the pre-convolved map are
   // always sampled so (forward.glsl, svo_filtered_sharpness).
   bool brdf_sampling = false;
+  // Non-null: a textured area light, sampled directly by every sample (one
+  // point each), seen through a visibility cone where the lights cast
+  // shadows. Not with `preconvolved`.
+  std::shared_ptr<const AreaLight> area_light;
 };
 
 // The bandwidth-adaptive pass's parameters (render::AdaptivePass; Bagher
