@@ -36,6 +36,13 @@ std::runtime_error env_error(const std::string& source, const std::string& why) 
 
 float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
 
+// A texel's weight in a sampling distribution: its luminance; colours whose
+// luminance rounds to 0 keep a pdf > 0.
+float sampling_weight(const float* c) {
+  const float lum = luminance(c);
+  return lum > 0 ? lum : std::max({c[0], c[1], c[2]}) * 1e-3f;
+}
+
 }  // namespace
 
 void validate_environment(const Environment& env) {
@@ -177,10 +184,7 @@ uint32_t append_environment_distribution(const Environment& env, std::vector<flo
     const float s = float(std::sin(M_PI * (y + 0.5) / env.height));
     for (uint32_t x = 0; x < env.width; ++x) {
       const size_t t = size_t(y) * env.width + x;
-      float lum = luminance(&env.rgb[t * 3]);
-      // Colours whose luminance rounds to 0 keep a pdf > 0.
-      if (!(lum > 0)) lum = std::max({env.rgb[t * 3], env.rgb[t * 3 + 1], env.rgb[t * 3 + 2]}) * 1e-3f;
-      f[t] = lum * s;
+      f[t] = sampling_weight(&env.rgb[t * 3]) * s;
     }
   }
   return append_distribution(f, env.width, env.height, tables);
@@ -461,11 +465,7 @@ ShadingTables build_shading_tables(const ShadingOptions& o, const Material& defa
     const auto texels = uint32_t(t.floats.size());
     t.floats.insert(t.floats.end(), a.rgb.begin(), a.rgb.end());
     std::vector<float> f(size_t(a.width) * a.height);
-    for (size_t i = 0; i < f.size(); ++i) {
-      const float* c = &a.rgb[3 * i];
-      // Colours whose luminance rounds to 0 keep a pdf > 0 (as the map's).
-      f[i] = luminance(c) > 0 ? luminance(c) : std::max({c[0], c[1], c[2]}) * 1e-3f;
-    }
+    for (size_t i = 0; i < f.size(); ++i) f[i] = sampling_weight(&a.rgb[3 * i]);
     p.area = glm::uvec4(a.width, a.height, 0, append_distribution(f, a.width, a.height, t.floats));
     p.area_centre = glm::vec4(a.centre, std::bit_cast<float>(texels));
     p.area_u = glm::vec4(a.edge_u, 0);

@@ -23,9 +23,7 @@ struct SvoAreaSample {
 
 // The texel of the light at uv (nearest: the texels are its radiance).
 SVO_FN vec3 svo_area_texel(SvoShadeParams sp, vec2 uv) {
-  uint x = min(uint(max(uv.x, 0.0f) * float(sp.area.x)), sp.area.x - 1u);
-  uint y = min(uint(max(uv.y, 0.0f) * float(sp.area.y)), sp.area.y - 1u);
-  uint at = floatBitsToUint(sp.area_centre.w) + 3u * (y * sp.area.x + x);
+  uint at = floatBitsToUint(sp.area_centre.w) + 3u * svo_grid_cell(uv, sp.area.x, sp.area.y);
   return vec3(svo_table(at), svo_table(at + 1u), svo_table(at + 2u));
 }
 

@@ -31,9 +31,7 @@ SVO_FN float svo_bw_environment(vec3 d) {
 // at uv (svo_area_sample's), 0 without the grid.
 SVO_FN float svo_bw_area(vec2 uv) {
   if (adapt.area.z == 0u) return 0.0f;
-  uint x = min(uint(max(uv.x, 0.0f) * float(adapt.area.y)), adapt.area.y - 1u);
-  uint y = min(uint(max(uv.y, 0.0f) * float(adapt.area.z)), adapt.area.z - 1u);
-  return svo_bw_table(adapt.area.x + y * adapt.area.y + x);
+  return svo_bw_table(adapt.area.x + svo_grid_cell(uv, adapt.area.y, adapt.area.z));
 }
 
 // The BRDF's angular bandwidth (cycles per radian) for light from ll seen

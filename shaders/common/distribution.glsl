@@ -51,12 +51,18 @@ SVO_FN vec3 svo_dist2d_sample(uint o, uint nu, uint nv, vec2 u) {
   return vec3((float(iu) + fu) / float(nu), (float(iv) + fv) / float(nv), mean > 0.0f ? f / mean : 0.0f);
 }
 
-// The density over the square at p (the z of svo_dist2d_sample there).
-SVO_FN float svo_dist2d_pdf(uint o, uint nu, uint nv, vec2 p) {
+// The row-major index of the cell of an nu x nv grid over [0, 1]^2 that
+// holds p (clamped to the grid).
+SVO_FN uint svo_grid_cell(vec2 p, uint nu, uint nv) {
   uint iu = min(uint(max(p.x, 0.0f) * float(nu)), nu - 1u);
   uint iv = min(uint(max(p.y, 0.0f) * float(nv)), nv - 1u);
+  return iv * nu + iu;
+}
+
+// The density over the square at p (the z of svo_dist2d_sample there).
+SVO_FN float svo_dist2d_pdf(uint o, uint nu, uint nv, vec2 p) {
   float mean = svo_table(o + nu * nv + nv * (nu + 1u) + nv + 1u);
-  return mean > 0.0f ? svo_table(o + iv * nu + iu) / mean : 0.0f;
+  return mean > 0.0f ? svo_table(o + svo_grid_cell(p, nu, nv)) / mean : 0.0f;
 }
 
 #endif

@@ -110,8 +110,9 @@ EnvironmentBandwidth environment_bandwidth(const Environment& env, uint32_t out_
 // so that the light's outline counts, each texel first repeated k x k times
 // (k the smallest with the longer side at least 32 texels, so that a solid
 // light's edge is a band of its own), divided by the smaller side of a grid
-// texel in scene units. A solid light reads 0 inside and up to 1/4 cycle
-// per grid texel at its outline.
+// texel in scene units. A solid white light one unit across reads about
+// 0.5 cycles per unit inside (the light as a whole) and about 7 at its
+// outline (tests/render/bandwidth_test.cpp).
 // @throw std::invalid_argument (validate_area_light's messages)
 struct AreaLightBandwidth {
   uint32_t width = 0, height = 0;
