@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <sstream>
 #include <glm/geometric.hpp>
+#include <sstream>
 
 #include "lattice_points.h"
 #include "svo/octree/sampler.h"
@@ -456,8 +456,7 @@ const char* const kCornerPolyOff =
 double total_area(const voxelizer::TriangleMesh& mesh) {
   double area = 0;
   for (const glm::ivec3& t : mesh.triangles) {
-    const glm::dvec3 a = mesh.positions[size_t(t.x)], b = mesh.positions[size_t(t.y)],
-                     c = mesh.positions[size_t(t.z)];
+    const glm::dvec3 a = mesh.positions[size_t(t.x)], b = mesh.positions[size_t(t.y)], c = mesh.positions[size_t(t.z)];
     area += 0.5 * glm::length(glm::cross(b - a, c - a));
   }
   return area;
@@ -494,9 +493,61 @@ TEST(Polygon, ConvexPolygonsKeepTheirFanNonConvexOnesAreEarClipped) {
             (std::vector<glm::ivec3>{{0, 1, 2}}));
 }
 
+// kCornerPolyOff as a PLY file of `format` (ascii, binary_little_endian or
+// binary_big_endian): float positions, faces as a uchar count and int corners.
+std::string corner_poly_ply(const std::string& format) {
+  std::istringstream off(kCornerPolyOff);
+  std::string line;
+  std::getline(off, line);
+  std::getline(off, line);
+  std::vector<glm::vec3> vertices;
+  for (int v = 0; v < 12 && std::getline(off, line); ++v) {
+    std::istringstream xyz(line);
+    glm::vec3 p;
+    xyz >> p.x >> p.y >> p.z;
+    vertices.push_back(p);
+  }
+  std::vector<std::vector<int>> faces;
+  while (std::getline(off, line)) {
+    std::istringstream words(line);
+    int k;
+    if (!(words >> k)) continue;
+    std::vector<int> face(static_cast<size_t>(k));
+    for (int& c : face) words >> c;
+    faces.push_back(face);
+  }
+  std::string ply = "ply\nformat " + format + " 1.0\nelement vertex 12\nproperty float x\nproperty float y\n" +
+                    "property float z\nelement face 8\nproperty list uchar int vertex_indices\nend_header\n";
+  const bool big = format == "binary_big_endian";
+  auto bytes = [&](const void* p, size_t n) {
+    std::string b(static_cast<const char*>(p), n);
+    if (big) std::reverse(b.begin(), b.end());
+    ply += b;
+  };
+  for (const glm::vec3& p : vertices) {
+    if (format == "ascii") {
+      ply += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    } else {
+      for (int k = 0; k < 3; ++k) bytes(&p[k], 4);
+    }
+  }
+  for (const std::vector<int>& face : faces) {
+    if (format == "ascii") {
+      ply += std::to_string(face.size());
+      for (int c : face) ply.append(" ").append(std::to_string(c));
+      ply += "\n";
+    } else {
+      ply += char(face.size());
+      for (int c : face) bytes(&c, 4);
+    }
+  }
+  return ply;
+}
+
 TEST(Mesh, NonConvexPolygonsKeepTheirShapeInEveryReader) {
   // OpenMesh's OFF reader; svo's own (a comment line before the keyword);
-  // OpenMesh's OBJ reader (1-based corners, texture coordinates per corner).
+  // OpenMesh's OBJ reader (1-based corners, texture coordinates per corner);
+  // OpenMesh's PLY reader, ASCII and binary in both byte orders.
   textured_square("checker.png", true);  // square.mtl, whose material "checker" is textured
   std::string obj = "# the notched cube\nmtllib square.mtl\nusemtl checker\n";
   std::istringstream off(kCornerPolyOff);
@@ -523,7 +574,10 @@ TEST(Mesh, NonConvexPolygonsKeepTheirShapeInEveryReader) {
   }
   const std::vector<std::string> files{write_file("corner_poly.off", kCornerPolyOff),
                                        write_file("corner_poly_own.off", std::string("# own\n") + kCornerPolyOff),
-                                       write_file("corner_poly.obj", obj)};
+                                       write_file("corner_poly.obj", obj),
+                                       write_file("corner_poly.ply", corner_poly_ply("ascii")),
+                                       write_file("corner_poly_le.ply", corner_poly_ply("binary_little_endian")),
+                                       write_file("corner_poly_be.ply", corner_poly_ply("binary_big_endian"))};
   for (const std::string& file : files) {
     SCOPED_TRACE(file);
     std::vector<std::string> warnings;

@@ -151,27 +151,6 @@ std::string mtl_material_json(const std::string& name, const MtlMaterial& m) {
   return j.str();
 }
 
-// A file's polygons of 4 or more corners as it lists them, for
-// resplit_polygons: where each one's triangles start once every face is
-// fanned (a face of k corners makes k - 2), its corners (0-based vertex
-// indices; -1 where one cannot be read) and, where every corner names one,
-// their texture coordinates. Triangles take no memory here.
-struct FilePolygon {
-  size_t first_triangle = 0;
-  std::vector<int> corners;
-  std::vector<glm::vec2> uv;  // empty, or one per corner
-};
-struct FilePolygons {
-  std::vector<FilePolygon> polygons;
-  size_t triangles = 0;  // of all faces, fanned
-  // Adds a face of `corners` (and their `uv`, if any): kept if a polygon.
-  void add(std::vector<int> corners, std::vector<glm::vec2> uv) {
-    const size_t k = corners.size();
-    if (k > 3) polygons.push_back({triangles, std::move(corners), std::move(uv)});
-    triangles += k >= 3 ? k - 2 : 0;
-  }
-};
-
 // The OBJ's usemtl name of each triangle OpenMesh makes (a face of n corners
 // becomes n - 2 triangles, in file order): names in order of first use ("default" before
 // any usemtl), and per triangle an index into them. Also the faces'
@@ -180,7 +159,7 @@ struct FilePolygons {
 struct ObjGroups {
   std::vector<std::string> names;
   std::vector<uint32_t> triangle_group;
-  FilePolygons polygons;
+  screen::FilePolygons polygons;
 };
 ObjGroups obj_groups(const std::string& path) {
   ObjGroups g;
@@ -366,7 +345,7 @@ namespace {
 // forms, whose vertices are not 3 numbers. For when OpenMesh's reader loses
 // faces: it misreads face colours in a plain OFF file (libcgal-demo's
 // quint_tris.off: 1 of 20 triangles kept).
-std::optional<MeshArrays> read_off_plainly(const std::string& path, FilePolygons* polygons) {
+std::optional<MeshArrays> read_off_plainly(const std::string& path, screen::FilePolygons* polygons) {
   std::ifstream in(path);
   std::string first;
   // Comment and blank lines before the keyword, as the screen skips them.
@@ -420,9 +399,9 @@ std::optional<MeshArrays> read_off_plainly(const std::string& path, FilePolygons
 // refused for "a non-finite texture coordinate"). Nothing changes unless
 // the triangles are exactly the polygons' fans, in order (a reader that
 // dropped or reordered faces). Returns the polygons split again.
-size_t resplit_polygons(MeshArrays& arrays, const FilePolygons& file) {
+size_t resplit_polygons(MeshArrays& arrays, const screen::FilePolygons& file) {
   if (file.triangles != arrays.triangles.size()) return 0;
-  for (const FilePolygon& polygon : file.polygons) {
+  for (const screen::FilePolygon& polygon : file.polygons) {
     const std::vector<int>& c = polygon.corners;
     for (size_t i = 2; i < c.size(); ++i) {
       if (arrays.triangles[polygon.first_triangle + i - 2] != glm::ivec3(c[0], c[i - 1], c[i])) return 0;
@@ -433,7 +412,7 @@ size_t resplit_polygons(MeshArrays& arrays, const FilePolygons& file) {
   size_t split = 0;
   std::vector<glm::dvec3> corners;
   std::vector<glm::vec2> corner_uv;
-  for (const FilePolygon& polygon : file.polygons) {
+  for (const screen::FilePolygon& polygon : file.polygons) {
     const std::vector<int>& c = polygon.corners;
     const size_t k = c.size(), first = polygon.first_triangle;
     if (std::any_of(c.begin(), c.end(), [n](int i) { return i < 0 || i >= n; })) continue;
@@ -497,7 +476,9 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   double file_triangles = -1;
   std::string own_reader;
   bool file_polygons = false;
-  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &own_reader, &file_polygons); !why.empty()) {
+  screen::FilePolygons ply_polygons;
+  if (std::string why = screen::screen_mesh_file(path, &file_triangles, &own_reader, &file_polygons, &ply_polygons);
+      !why.empty()) {
     throw std::runtime_error(path + ": " + why);
   }
   // An OFF file OpenMesh's reader cannot be trusted with is read by svo's
@@ -509,7 +490,7 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
   // 4OFF and nOFF forms, which that reader does not read, are refused
   // rather than handed to OpenMesh.
   if (!own_reader.empty()) {
-    FilePolygons polygons;
+    screen::FilePolygons polygons;
     std::optional<MeshArrays> plain = read_off_plainly(path, &polygons);
     if (!plain) {
       throw std::runtime_error(path + ": a 4OFF or nOFF file with " + own_reader + ": not read (OpenMesh's " +
@@ -535,7 +516,7 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
     const auto file = uint64_t(file_triangles);
     const std::string kept = std::to_string(mesh.n_faces()) + " of " + std::to_string(file) + " triangles";
     if (lower_extension(path) == ".off") {
-      FilePolygons polygons;
+      screen::FilePolygons polygons;
       if (std::optional<MeshArrays> plain = read_off_plainly(path, &polygons)) {
         if (options.warning) {
           options.warning(path + ": OpenMesh's reader kept " + kept + ": read by svo's own (positions and faces; " +
@@ -620,14 +601,16 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
     arrays.face_uv.push_back(uv);
     arrays.face_texture.push_back(texture);
   }
-  // OpenMesh fans every polygon: non-convex ones of an OFF or OBJ file are
-  // split again from the file's own corner lists.
+  // OpenMesh fans every polygon: non-convex ones of an OFF, OBJ or PLY file
+  // are split again from the file's own corner lists.
   const bool obj = lower_extension(path) == ".obj";
   const ObjGroups groups = obj ? obj_groups(path) : ObjGroups{};
   if (obj) {
     report_resplit(path, resplit_polygons(arrays, groups.polygons), options);
+  } else if (!ply_polygons.polygons.empty()) {
+    report_resplit(path, resplit_polygons(arrays, ply_polygons), options);
   } else if (lower_extension(path) == ".off" && file_polygons) {
-    FilePolygons polygons;
+    screen::FilePolygons polygons;
     if (read_off_plainly(path, &polygons)) report_resplit(path, resplit_polygons(arrays, polygons), options);
   }
   // OBJ usemtl groups: a material per group, from its MTL entry, when there

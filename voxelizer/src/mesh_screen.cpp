@@ -62,7 +62,7 @@ bool is_face_corners(const Element& e, const Property& p) {
 // that many numbers; a face's corners: 3 or more vertex indices below
 // `vertices`; nothing else.
 std::string screen_ply_ascii_body(std::istream& in, const std::vector<Element>& declared, int header_lines,
-                                  int64_t vertices, double& triangles) {
+                                  int64_t vertices, double& triangles, FilePolygons* polygons) {
   std::string line;
   size_t number = size_t(header_lines);
   auto is_number = [](const std::string& t) {
@@ -107,8 +107,16 @@ std::string screen_ply_ascii_body(std::istream& in, const std::vector<Element>& 
                    " vertices";
           }
         }
-        if (corners && (triangles += double(k) - 2) > kMaxMeshTriangles) {
+        if (!corners) continue;
+        if ((triangles += double(k) - 2) > kMaxMeshTriangles) {
           return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
+        }
+        if (polygons && k > 3) {
+          std::vector<int> c(k);
+          for (size_t j = 0; j < k; ++j) c[j] = int(std::stoll(w[at - k + j]));
+          polygons->add(std::move(c), {});
+        } else if (polygons) {
+          polygons->add_triangle();
         }
       }
       if (at != w.size()) return where + "more values than the element's properties";
@@ -176,10 +184,11 @@ class BinaryBody {
 // to kMaxPolygonCorners, a face's corners 3 or more vertex indices below
 // `vertices`, and the bytes there.
 std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>& declared, bool big_endian,
-                                   uintmax_t file_bytes, int64_t vertices, double& triangles) {
+                                   uintmax_t file_bytes, int64_t vertices, double& triangles, FilePolygons* polygons) {
   const std::streamoff start = in.tellg();
   if (start < 0 || uintmax_t(start) > file_bytes) return "PLY file ends in its header";
   BinaryBody body(in, file_bytes - uintmax_t(start), big_endian);
+  std::vector<int> corners;
   for (const Element& e : declared) {
     const std::string ends = "PLY file ends inside " + e.name.substr(0, 40) + " ";
     uint64_t row = 0;
@@ -209,6 +218,7 @@ std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>&
           continue;
         }
         if (k < 3) return where + "a face of " + std::to_string(k) + " corners (at least 3)";
+        corners.clear();
         for (int64_t j = 0; j < k; ++j) {
           int64_t v = 0;
           if (!body.integer(p.type, v)) return ends + std::to_string(i);
@@ -216,9 +226,15 @@ std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>&
             return where + "refers to vertex " + std::to_string(v) + ", but the file has " + std::to_string(vertices) +
                    " vertices";
           }
+          if (polygons && k > 3) corners.push_back(int(v));
         }
         if ((triangles += double(k) - 2) > kMaxMeshTriangles) {
           return where + "more than " + kTriangles + " triangles (the limit of the mesh readers)";
+        }
+        if (polygons && k > 3) {
+          polygons->add(corners, {});
+        } else if (polygons) {
+          polygons->add_triangle();
         }
       }
     }
@@ -228,7 +244,7 @@ std::string screen_ply_binary_body(std::istream& in, const std::vector<Element>&
 
 // "" when the PLY header and body are ones OpenMesh can be given, else the
 // problem.
-std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles) {
+std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles, FilePolygons* polygons) {
   static const std::set<std::string> kTypes = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
                                                "float", "double", "int8",    "uint8",  "int16", "uint16",
                                                "int32", "uint32", "float32", "float64"};
@@ -264,8 +280,8 @@ std::string screen_ply(std::istream& in, uintmax_t file_bytes, double& triangles
       for (const Element& e : declared) {
         if (e.name == "vertex") vertices = e.count;
       }
-      return ascii ? screen_ply_ascii_body(in, declared, number, vertices, triangles)
-                   : screen_ply_binary_body(in, declared, big_endian, file_bytes, vertices, triangles);
+      return ascii ? screen_ply_ascii_body(in, declared, number, vertices, triangles, polygons)
+                   : screen_ply_binary_body(in, declared, big_endian, file_bytes, vertices, triangles, polygons);
     }
     if (w[0] == "element") {
       if (w.size() != 3 || w[2].empty() || w[2].size() > 12 ||
@@ -554,7 +570,8 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-std::string screen_mesh_file(const std::string& path, double* triangles, std::string* own_reader, bool* polygons) {
+std::string screen_mesh_file(const std::string& path, double* triangles, std::string* own_reader, bool* polygons,
+                             FilePolygons* ply_polygons) {
   if (triangles) *triangles = -1;
   if (polygons) *polygons = false;
   if (own_reader) own_reader->clear();
@@ -569,7 +586,9 @@ std::string screen_mesh_file(const std::string& path, double* triangles, std::st
   bool any_polygon = false;
   std::string why;
   if (ext == ".ply") {
-    why = screen_ply(in, bytes, counted);
+    FilePolygons found;
+    why = screen_ply(in, bytes, counted, ply_polygons ? &found : nullptr);
+    if (ply_polygons && why.empty()) *ply_polygons = std::move(found);
   } else if (ext == ".off") {
     why = screen_off(in, bytes, counted, own, any_polygon);
   } else if (ext == ".obj") {

@@ -8,10 +8,36 @@
 // first, strictly; the files are untrusted.
 #pragma once
 
+#include <cstddef>
 #include <functional>
+#include <glm/vec2.hpp>
 #include <string>
+#include <vector>
 
 namespace svo::voxelizer::screen {
+
+// A file's polygons of 4 or more corners as it lists them, for
+// resplit_polygons: where each one's triangles start once every face is
+// fanned (a face of k corners makes k - 2), its corners (0-based vertex
+// indices; -1 where one cannot be read) and, where every corner names one,
+// their texture coordinates. Triangles take no memory here.
+struct FilePolygon {
+  size_t first_triangle = 0;
+  std::vector<int> corners;
+  std::vector<glm::vec2> uv;  // empty, or one per corner
+};
+struct FilePolygons {
+  std::vector<FilePolygon> polygons;
+  size_t triangles = 0;  // of all faces, fanned
+  // Adds a face of `corners` (and their `uv`, if any): kept if a polygon.
+  void add(std::vector<int> corners, std::vector<glm::vec2> uv) {
+    const size_t k = corners.size();
+    if (k > 3) polygons.push_back({triangles, std::move(corners), std::move(uv)});
+    triangles += k >= 3 ? k - 2 : 0;
+  }
+  // Counts a triangle face.
+  void add_triangle() { ++triangles; }
+};
 
 // The path's extension in lower case (".obj").
 std::string lower_extension(const std::string& path);
@@ -34,8 +60,11 @@ std::string lower_extension(const std::string& path);
 // reader misreads), "comment lines before the OFF keyword" (as CGAL writes
 // them; OpenMesh's reader refuses the file). `polygons`, when given:
 // whether an OFF or OBJ file has a face of more than 3 corners.
+// `ply_polygons`, when given: a PLY file's faces of more than 3 corners, as
+// it lists them (OpenMesh fans them; mesh_read.cpp splits non-convex ones
+// again).
 std::string screen_mesh_file(const std::string& path, double* triangles = nullptr, std::string* own_reader = nullptr,
-                             bool* polygons = nullptr);
+                             bool* polygons = nullptr, FilePolygons* ply_polygons = nullptr);
 
 // Checks the OBJ's mtllib files where OpenMesh and read_mtl_materials look
 // for them (relative to the OBJ): each must be a regular file of at most
