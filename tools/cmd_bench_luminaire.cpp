@@ -323,12 +323,14 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
   }
 
   if (wants(4)) {
-    bar.update("part 4: secant against binary", 0.0);
-    md << "## 4. Modified secant against binary search at equal depth (Fig. 5), 200 spp\n\n| depth | secant Lab | "
-          "binary Lab | secant ms | binary ms |\n|---|---|---|---|---|\n";
+    bar.update("part 4: secant, binary and Illinois", 0.0);
+    md << "## 4. Modified secant against binary search (and Illinois) at equal depth (Fig. 5), 200 spp\n\n| depth | "
+          "secant Lab | "
+          "binary Lab | illinois Lab | secant ms | binary ms | illinois ms |\n|---|---|---|---|---|---|---|\n";
     for (uint32_t depth : {1u, 2u, 3u, 4u, 6u, 0u}) {
-      double e[2], ms[2];
-      for (auto search : {render::LuminaireSearch::Secant, render::LuminaireSearch::Binary}) {
+      double e[3], ms[3];
+      for (auto search :
+           {render::LuminaireSearch::Secant, render::LuminaireSearch::Binary, render::LuminaireSearch::Illinois}) {
         render::Frame f = render_with([&](render::RenderSettings& s) {
           s.luminaire.spp = 200;
           s.luminaire.search = search;
@@ -339,7 +341,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
         ms[size_t(search)] = pass_ms(f, "luminaire");
       }
       md << "| " << (depth ? std::to_string(depth) : "exact") << " | " << bench::fmt(e[0], 3) << " | "
-         << bench::fmt(e[1], 3) << " | " << bench::fmt(ms[0], 0) << " | " << bench::fmt(ms[1], 0) << " |\n";
+         << bench::fmt(e[1], 3) << " | " << bench::fmt(e[2], 3) << " | " << bench::fmt(ms[0], 0) << " | "
+         << bench::fmt(ms[1], 0) << " | " << bench::fmt(ms[2], 0) << " |\n";
       flush();
     }
     md << "\n";
@@ -433,7 +436,8 @@ void add_bench_luminaire_command(CLI::App& bench, int& exit_code) {
       "luminaire",
       "Lu et al. 2015's figures on the engine against quadrature of the same G-buffer: restricted, uniform and "
       "global sampling at equal samples and at equal error (Figs. 11, 12), K_max (Fig. 9), Halton against random "
-      "(Fig. 8), secant against binary search (Fig. 5), cell against per-sample visibility (Fig. 7) and frame times "
+      "(Fig. 8), secant against binary search and the Illinois secant (Fig. 5), cell against per-sample visibility "
+      "(Fig. 7) and frame times "
       "(Fig. 10); writes table.md, results.csv, results.json and images to --out");
   cmd->add_option("--scene", a->scene, "Built-in scene")->capture_default_str();
   cmd->add_option("--luminaires", a->luminaires,

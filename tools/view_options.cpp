@@ -275,9 +275,11 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "cells", "samples"}))
       ->group("Luminaires");
-  cmd.add_option("--search", o.search, "CDF inversion: secant (the paper's modified secant method) or binary")
+  cmd.add_option("--search", o.search,
+                 "CDF inversion: secant (the paper's modified secant method), binary, or illinois (the secant "
+                 "with the Illinois step, which keeps no end of the interval for long)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"secant", "binary"}))
+      ->check(CLI::IsMember({"secant", "binary", "illinois"}))
       ->group("Luminaires");
   cmd.add_option("--search-depth", o.depth,
                  "Steps of the CDF inversion before it interpolates in the interval left (0: until exact)")

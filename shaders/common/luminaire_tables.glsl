@@ -13,6 +13,7 @@ SVO_CONST uint SVO_LUM_SAMPLER_GLOBAL = 2u;
 SVO_CONST uint SVO_LUM_SAMPLER_BOX = 3u;
 SVO_CONST uint SVO_LUM_SEARCH_SECANT = 0u;
 SVO_CONST uint SVO_LUM_SEARCH_BINARY = 1u;
+SVO_CONST uint SVO_LUM_SEARCH_ILLINOIS = 2u;
 SVO_CONST uint SVO_LUM_VIS_NONE = 0u;
 SVO_CONST uint SVO_LUM_VIS_CELLS = 1u;
 SVO_CONST uint SVO_LUM_VIS_SAMPLES = 2u;
@@ -209,32 +210,48 @@ SVO_FN float svo_lum_cdf_value(SvoLumInfo f, SvoLumCdf c, uint n, float x) {
 // Inverts the CDF for u in [cdf(lo), cdf(hi)] between texels lo and hi
 // (lo < hi): the x where the piecewise-linear CDF reaches u. Secant: the
 // paper's modified secant method, each step the chord's root, stopping at
-// an interval of one texel, where the CDF is linear (section 5); binary:
-// halving. `depth` > 0 stops after that many steps and returns the chord's
-// root in the interval left (Fig. 5's comparison at equal depth).
+// an interval of one texel, where the CDF is linear (section 5); it is
+// false position, which keeps one end where the CDF bends one way over the
+// interval. Illinois: the same chord, but an end kept twice in a row has
+// its CDF value moved halfway to u for the next chord, so that neither end
+// stays (Dowell and Jarratt 1971). Binary: halving. `depth` > 0 stops after
+// that many steps and returns the chord's root in the interval left
+// (Fig. 5's comparison at equal depth).
 SVO_FN float svo_lum_invert(SvoLumInfo f, SvoLumCdf cdf, uint n, uint lo, uint hi, float u, uint method, uint depth) {
   float clo = svo_lum_cdf_value(f, cdf, n, float(lo));
   float chi = svo_lum_cdf_value(f, cdf, n, float(hi));
+  // The chord's ends (Illinois moves them towards u) and the end the last
+  // step replaced (0 none, 1 lo, 2 hi).
+  float wlo = clo;
+  float whi = chi;
+  uint moved = 0u;
   uint steps = 0u;
   // The secant's worst case is linear in the interval: after a bisection's
   // worth of steps it halves instead (only when depth is unlimited).
   uint guard = 24u;
   while (hi - lo > 1u && (depth == 0u || steps < depth)) {
     uint mid;
-    if (method == SVO_LUM_SEARCH_SECANT && (depth > 0u || steps < guard) && chi > clo) {
-      float t = (u - clo) / (chi - clo);
+    if (method != SVO_LUM_SEARCH_BINARY && (depth > 0u || steps < guard) && whi > wlo) {
+      float t = (u - wlo) / (whi - wlo);
       mid = lo + uint(t * float(hi - lo));
       mid = clamp(mid, lo + 1u, hi - 1u);
     } else {
       mid = (lo + hi) / 2u;
     }
     float c = svo_lum_cdf_value(f, cdf, n, float(mid));
+    bool illinois = method == SVO_LUM_SEARCH_ILLINOIS;
     if (c <= u) {
       lo = mid;
       clo = c;
+      wlo = c;
+      if (illinois && moved == 1u) whi = u + 0.5f * (whi - u);
+      moved = 1u;
     } else {
       hi = mid;
       chi = c;
+      whi = c;
+      if (illinois && moved == 2u) wlo = u + 0.5f * (wlo - u);
+      moved = 2u;
     }
     ++steps;
   }
