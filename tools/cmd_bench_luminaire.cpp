@@ -364,7 +364,7 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
        << a.visibility_reference_spp << " spp.\n\n| visibility | mean Lab error | relMSE | ms |\n|---|---|---|---|\n";
     std::vector<render::Frame> frames;
     for (auto v : {render::LuminaireVisibility::Cells, render::LuminaireVisibility::Samples,
-                   render::LuminaireVisibility::None}) {
+                   render::LuminaireVisibility::None, render::LuminaireVisibility::CellsOnU}) {
       frames.push_back(shadowed(v, 200, 1));
       const double e = record("visibility", render::luminaire_visibility_name(v), 200, frames.back(), reference);
       md << "| " << render::luminaire_visibility_name(v) << " | " << bench::fmt(e, 3) << " | "
@@ -372,8 +372,9 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
          << " |\n";
     }
     render::write_colour((dir / "visibility.png").string(),
-                         bench::strip({{&reference, &frames[0], &frames[1], &frames[2]}}));
-    md << "\nImages: visibility.png (reference, cells, samples, none). Paper (shadow maps against ray tracing): mean "
+                         bench::strip({{&reference, &frames[0], &frames[1], &frames[2], &frames[3]}}));
+    md << "\nImages: visibility.png (reference, cells, samples, none, cells-on-u). Paper (shadow maps against ray "
+          "tracing): mean "
           "Lab error 1.2.\n\n";
     flush();
   }

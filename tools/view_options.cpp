@@ -232,7 +232,7 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
   cmd.add_option("--luminaire", o.files,
                  "Light the scene with a light-field luminaire (.lfl: svo luminaire make|import), repeatable up to " +
                      std::to_string(render::LuminaireOptions::kMaxLuminaires) +
-                     "; without --shading forward the luminaires (and --ambient) are the only light")
+                     "; without --shading forward the luminaires and the faint ambient term are the only light")
       ->allow_extra_args(false)
       ->group("Luminaires");
   cmd.add_option("--luminaire-at", o.at,
@@ -247,6 +247,13 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
   cmd.add_option("--luminaire-size", o.size,
                  "The luminaire's emitting plane across, scene units (default: its own size in metres, as recorded "
                  "in the file)")
+      ->allow_extra_args(false)
+      ->check(CLI::PositiveNumber)
+      ->group("Luminaires");
+  cmd.add_option("--luminaire-scale", o.scale,
+                 "Multiply the luminaire's radiance by S (default 1). An imported ray file's radiance is in its own "
+                 "flux unit per mm^2 sr (docs/luminaire.md): a real LED lights a scene far below the default "
+                 "lights, so raise it here or with --exposure")
       ->allow_extra_args(false)
       ->check(CLI::PositiveNumber)
       ->group("Luminaires");
@@ -270,10 +277,11 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
       ->group("Luminaires");
   cmd.add_option("--luminaire-visibility", o.visibility,
                  "Shadows of the luminaires by cones through the octree: cells (one cone per basis cell towards its "
-                 "reference light position, shared by the images over it), samples (one per sample: slower, "
-                 "accurate), none")
+                 "reference light position on S, the paper's, shared by the images over it), cells-on-u (one cone "
+                 "per basis cell along the line from the point to the cell on U: the same cost, right where S is "
+                 "wide, as for a bare LED's ray file), samples (one per sample: slower, accurate), none")
       ->capture_default_str()
-      ->check(CLI::IsMember({"none", "cells", "samples"}))
+      ->check(CLI::IsMember({"none", "cells", "samples", "cells-on-u"}))
       ->group("Luminaires");
   cmd.add_option("--search", o.search,
                  "CDF inversion: secant (the paper's modified secant method), binary, or illinois (the secant "
@@ -321,12 +329,17 @@ void check_luminaire_args(const LuminaireArgs& o) {
   }
   for (const auto& [count, name] :
        {std::pair{o.at.size(), "--luminaire-at"}, std::pair{o.aim.size(), "--luminaire-aim"},
-        std::pair{o.size.size(), "--luminaire-size"}}) {
+        std::pair{o.size.size(), "--luminaire-size"}, std::pair{o.scale.size(), "--luminaire-scale"}}) {
     if (count == 0) continue;
     if (n == 0) throw std::invalid_argument(std::string(name) + " places a luminaire: give --luminaire FILE.lfl");
     if (count != 1 && count != n) {
       throw std::invalid_argument(std::string(name) + " is given " + std::to_string(count) + " times for " +
                                   std::to_string(n) + " luminaires: give it once, or once per --luminaire");
+    }
+  }
+  for (float k : o.scale) {
+    if (!(k > 0.0f && std::isfinite(k))) {
+      throw std::invalid_argument("--luminaire-scale " + std::to_string(k) + ": must be a finite number above 0");
     }
   }
   for (const auto& t : o.at) parse_point(t, "--luminaire-at");
@@ -353,7 +366,23 @@ void apply_luminaires(const LuminaireArgs& o, glm::vec3 centre, float size, rend
   l.luminaires.clear();
   for (size_t i = 0; i < o.files.size(); ++i) {
     render::PlacedLuminaire p;
-    p.field = std::make_shared<const render::LightField>(render::load_light_field(o.files[i]));
+    render::LightField field = render::load_light_field(o.files[i]);
+    if (const float* k = pick(o.scale, i); k && *k != 1.0f) {
+      float brightest = 0.0f;
+      for (const auto& image : field.images) {
+        for (float v : image) brightest = std::max(brightest, v);
+      }
+      if (!std::isfinite(brightest * *k)) {
+        std::ostringstream why;
+        why << "--luminaire-scale " << *k << ": " << o.files[i] << "'s brightest texel (" << brightest
+            << ") would exceed the float range";
+        throw std::invalid_argument(why.str());
+      }
+      for (auto& image : field.images) {
+        for (float& v : image) v *= *k;
+      }
+    }
+    p.field = std::make_shared<const render::LightField>(std::move(field));
     const std::string* at = pick(o.at, i);
     const std::string* aim = pick(o.aim, i);
     const float* s = pick(o.size, i);

@@ -59,15 +59,17 @@ struct FilterArgs {
 };
 
 // Light-field luminaires (Lu et al. 2015, DESIGN 10.4): --luminaire FILE.lfl
-// (repeatable) with --luminaire-at, --luminaire-aim, --luminaire-size (one
-// each per luminaire, in order, or one for all), and the sampling options.
+// (repeatable) with --luminaire-at, --luminaire-aim, --luminaire-size,
+// --luminaire-scale (one each per luminaire, in order, or one for all), and
+// the sampling options.
 struct LuminaireArgs {
   std::vector<std::string> files;
   std::vector<std::string> at, aim;  // "X,Y,Z"
   std::vector<float> size;
+  std::vector<float> scale;  // the images' radiance times this
   std::string sampler = "restricted";
   std::string search = "secant";
-  std::string visibility = "cells";
+  std::string visibility = "cells-on-u";
   std::string sequence = "halton";
   uint32_t spp = 200;
   uint32_t kmax = 0;

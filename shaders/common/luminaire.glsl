@@ -100,6 +100,20 @@ SVO_FN vec3 svo_lum_cell_point(SvoLumInfo f, uint a, uint b) {
   return svo_lum_on_s(f, vec2(svo_lum_table(at), svo_lum_table(at + 1u)));
 }
 
+// Where the line from the point (at `pl` in S's frame) to cell (a, b)'s
+// centre on U crosses S, as a world point: the cone of --luminaire-visibility
+// cells-on-u aims there, so that it follows the light that reaches this
+// point through the cell, wherever on S that light passes. The paper's
+// reference position (svo_lum_cell_point) is one point on S for every
+// shaded point, as a shadow map needs: right where S is small beside the
+// scene, but for a bare LED, whose S spans the whole beam, a cone to the
+// middle of S from a point lit through S's edge misses the occluder between.
+SVO_FN vec3 svo_lum_cell_seen(SvoLumInfo f, uint a, uint b, vec3 pl) {
+  vec2 u = svo_lum_basis_centre(f, 0u) - 0.5f * float(f.n) * f.spacing + (vec2(float(a), float(b)) + 0.5f) * f.spacing;
+  vec2 s = vec2(pl) + (u - vec2(pl)) * (pl.z / (pl.z + f.delta));
+  return f.centre + s.x * f.x + s.y * f.y;
+}
+
 // The material a sample shades: where the pixel shows two, sample i's draw.
 SVO_FN SvoLobe svo_lum_lobe(SvoShadingPoint p, SvoGBuffer g, uint pixel, uint i, SvoLumOptions o) {
   bool mixed = g.material != g.material2 && g.material_mix < 1.0f;
@@ -127,6 +141,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
   float cellv[SVO_LUM_MAX_CELLS];
   for (uint c = 0u; c < min(cell_count, SVO_LUM_MAX_CELLS); ++c) cellv[c] = -1.0f;
   float cell_width = f.spacing * pl.z / (pl.z + f.delta);
+  bool by_cell = o.visibility == SVO_LUM_VIS_CELLS || o.visibility == SVO_LUM_VIS_CELLS_ON_U;
   float texel_width = f.extent.x / float(f.w);
   vec3 total = vec3(0.0f);
   uint sample_index = 0u;
@@ -235,9 +250,10 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
       if (!(contribution.x + contribution.y + contribution.z > 0.0f)) continue;
       if (o.visibility == SVO_LUM_VIS_SAMPLES) {
         contribution *= svo_lum_visible(p, q, texel_width);
-      } else if (o.visibility == SVO_LUM_VIS_CELLS && !vis_known) {
+      } else if (by_cell && !vis_known) {
         // v_m: the mean over the n x n cells under Phi_m's support of one
-        // cone each towards the cell's reference position (section 6.2).
+        // cone each towards the cell's reference position (section 6.2), or
+        // along the line to the cell on U (cells-on-u).
         uint ci = m % f.grid_w;
         uint cj = m / f.grid_w;
         float v = 0.0f;
@@ -246,7 +262,9 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
             uint cell = b * cell_w + a;
             float cv = cell < SVO_LUM_MAX_CELLS ? cellv[cell] : -1.0f;
             if (cv < 0.0f) {
-              cv = svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, texel_width));
+              cv = o.visibility == SVO_LUM_VIS_CELLS
+                       ? svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, texel_width))
+                       : svo_lum_visible(p, svo_lum_cell_seen(f, a, b, pl), cell_width);
               if (cell < SVO_LUM_MAX_CELLS) cellv[cell] = cv;
             }
             v += cv;
@@ -255,7 +273,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
         vis_m = v / float(f.n * f.n);
         vis_known = true;
       }
-      sum += contribution * (o.visibility == SVO_LUM_VIS_CELLS ? vis_m : 1.0f);
+      sum += contribution * (by_cell ? vis_m : 1.0f);
     }
     total += sum / float(km);
   }

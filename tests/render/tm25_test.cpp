@@ -19,6 +19,7 @@ using svo::render::import_tm25;
 using svo::render::light_field_flux;
 using svo::render::LightField;
 using svo::testing::encode_tm25;
+using svo::testing::lambertian;
 using svo::testing::Tm25File;
 using svo::testing::Tm25Ray;
 
@@ -28,31 +29,6 @@ void write(const std::string& path, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   ASSERT_TRUE(bool(out)) << path;
-}
-
-// A Lambertian square of side `side` at z = z0 with radiance L0: origins
-// stratified on the square, directions cosine-weighted (stratified too),
-// each ray carrying L0 pi A / N.
-Tm25File lambertian(float L0, float side, uint32_t n_side, uint32_t dirs, float z0 = 0.0f) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
-  Tm25File file;
-  const uint32_t n = n_side * n_side * dirs;
-  const float flux = L0 * kPi * side * side / float(n);
-  const uint32_t d_side = uint32_t(std::lround(std::sqrt(double(dirs))));
-  for (uint32_t j = 0; j < n_side; ++j) {
-    for (uint32_t i = 0; i < n_side; ++i) {
-      for (uint32_t d = 0; d < dirs; ++d) {
-        const float x = ((float(i) + uni(rng)) / float(n_side) - 0.5f) * side;
-        const float y = ((float(j) + uni(rng)) / float(n_side) - 0.5f) * side;
-        const float r1 = (float(d % d_side) + uni(rng)) / float(d_side);
-        const float r2 = (float(d / d_side % d_side) + uni(rng)) / float(d_side);
-        const float sin_t = std::sqrt(r1), phi = 2.0f * kPi * r2;
-        file.rays.push_back({x, y, z0, sin_t * std::cos(phi), sin_t * std::sin(phi), std::sqrt(1.0f - r1), flux});
-      }
-    }
-  }
-  return file;
 }
 
 double total_flux(const Tm25File& file) {

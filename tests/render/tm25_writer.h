@@ -2,8 +2,10 @@
 // layout import_tm25 reads (render/src/tm25.cpp, docs/luminaire_tm25.md).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,32 @@ struct Tm25File {
   // One spectral table of this many points when > 0 (spectral identifier 3).
   int32_t spectrum_points = 0;
 };
+
+// A Lambertian square of side `side` at z = z0 with radiance L0: origins
+// stratified on the square, directions cosine-weighted (stratified too),
+// each ray carrying L0 pi A / N.
+inline Tm25File lambertian(float L0, float side, uint32_t n_side, uint32_t dirs, float z0 = 0.0f) {
+  constexpr float pi = 3.14159265358979f;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  Tm25File file;
+  const uint32_t n = n_side * n_side * dirs;
+  const float flux = L0 * pi * side * side / float(n);
+  const uint32_t d_side = uint32_t(std::lround(std::sqrt(double(dirs))));
+  for (uint32_t j = 0; j < n_side; ++j) {
+    for (uint32_t i = 0; i < n_side; ++i) {
+      for (uint32_t d = 0; d < dirs; ++d) {
+        const float x = ((float(i) + uni(rng)) / float(n_side) - 0.5f) * side;
+        const float y = ((float(j) + uni(rng)) / float(n_side) - 0.5f) * side;
+        const float r1 = (float(d % d_side) + uni(rng)) / float(d_side);
+        const float r2 = (float(d / d_side % d_side) + uni(rng)) / float(d_side);
+        const float sin_t = std::sqrt(r1), phi = 2.0f * pi * r2;
+        file.rays.push_back({x, y, z0, sin_t * std::cos(phi), sin_t * std::sin(phi), std::sqrt(1.0f - r1), flux});
+      }
+    }
+  }
+  return file;
+}
 
 inline std::vector<uint8_t> encode_tm25(const Tm25File& file) {
   std::vector<uint8_t> out(256 + 32, 0);

@@ -149,8 +149,10 @@ enum class LuminaireSampler : uint32_t {
 // position), halving, or the Illinois variant of the secant (ours).
 enum class LuminaireSearch : uint32_t { Secant = 0, Binary = 1, Illinois = 2 };
 // The visibility of the luminaire from the shaded point, by cones through
-// the octree (section 6.2 with cones for shadow maps).
-enum class LuminaireVisibility : uint32_t { None = 0, Cells = 1, Samples = 2 };
+// the octree (section 6.2 with cones for shadow maps): one per basis cell
+// towards its reference position on S (the paper's), one per sample, or one
+// per basis cell along the line to the cell on U (ours: per point).
+enum class LuminaireVisibility : uint32_t { None = 0, Cells = 1, Samples = 2, CellsOnU = 3 };
 // The sample sequence (Fig. 8): Halton, or independent uniform numbers (a
 // PCG hash per sample, standing for the paper's Mersenne twister).
 enum class LuminaireSequence : uint32_t { Halton = 0, Random = 1 };
@@ -176,7 +178,8 @@ struct LuminaireOptions {
   static constexpr uint32_t kMaxLuminaires = 8;
   LuminaireSampler sampler = LuminaireSampler::Restricted;
   LuminaireSearch search = LuminaireSearch::Secant;
-  LuminaireVisibility visibility = LuminaireVisibility::Cells;
+  // Ours by default: at the paper's cost, and right where S is wide (docs/luminaire.md).
+  LuminaireVisibility visibility = LuminaireVisibility::CellsOnU;
   LuminaireSequence sequence = LuminaireSequence::Halton;
   uint32_t spp = 200;         // K, samples per pixel over all images of a luminaire, >= 1
   uint32_t kmax = 0;          // K_max, the cap on K_m(p) (Fig. 9); 0: none
