@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -92,7 +94,19 @@ CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* ar
         hint.message = with_suggestion("unknown option '" + name + "'", name, option_names(*current));
         return hint;
       }
-      if (option->get_type_size_min() > 0 && token.find('=') == std::string::npos) ++i;  // its value
+      const size_t eq = token.find('=');
+      const bool takes_value = option->get_type_size_min() > 0;
+      if (takes_value && option->get_type_name().rfind("FLOAT", 0) == 0) {
+        const std::string value = eq != std::string::npos ? token.substr(eq + 1) : i + 1 < argc ? argv[i + 1] : "";
+        char* end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (!value.empty() && end && *end == '\0' && !std::isfinite(v)) {
+          hint.message = name + " " + value + ": not a finite number";
+          hint.non_finite = true;
+          return hint;
+        }
+      }
+      if (takes_value && eq == std::string::npos) ++i;  // its value
       continue;
     }
     const auto subs = commands_of(*current);
@@ -123,6 +137,10 @@ int run_command_line(CLI::App& app, const std::string& version, int argc, char**
   const std::string program = app.get_name();
   app.set_version_flag("--version", version);
   try {
+    if (const CommandLineHint pre = command_line_hint(app, argc, argv); pre.non_finite) {
+      std::cerr << pre.command << ": " << pre.message << " (see " << pre.command << " --help)\n";
+      return 1;
+    }
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();

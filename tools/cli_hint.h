@@ -12,11 +12,16 @@ namespace svo::tools {
 struct CommandLineHint {
   std::string command;  // the deepest command named: "svo", "svo render", "svo bench zoom"
   std::string message;  // "unknown command 'rendr' (did you mean 'render'?)"; empty: CLI11's own message
+  // The message is about a number option given nan or inf ("--exposure nan:
+  // not a finite number"), which CLI11's range checks let through (nan) or
+  // refuse naming DBL_MAX (inf): refused before parsing.
+  bool non_finite = false;
 };
 
 // Reads argv as CLI11 would (subcommands by name, options up to '=', "--"
 // ends the options) and finds the first name that is neither a command nor
-// an option of the command it follows.
+// an option of the command it follows, or the first value of a number
+// option that reads as nan or inf.
 CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* argv);
 
 // The name in `names` closest to `word`: the only one that starts with it,
