@@ -106,8 +106,10 @@ SVO_FN vec3 svo_lum_cell_point(SvoLumInfo f, uint a, uint b) {
 // point through the cell, wherever on S that light passes. The paper's
 // reference position (svo_lum_cell_point) is one point on S for every
 // shaded point, as a shadow map needs: right where S is small beside the
-// scene, but for a bare LED, whose S spans the whole beam, a cone to the
-// middle of S from a point lit through S's edge misses the occluder between.
+// scene, but where S spans a bare LED's whole beam, the outer cells' images
+// hold oblique light far out on S, and a cone to their reference position
+// passes beside the occluder between the point and the die, or meets one
+// that is not there.
 SVO_FN vec3 svo_lum_cell_seen(SvoLumInfo f, uint a, uint b, vec3 pl) {
   vec2 u = svo_lum_basis_centre(f, 0u) - 0.5f * float(f.n) * f.spacing + (vec2(float(a), float(b)) + 0.5f) * f.spacing;
   vec2 s = vec2(pl) + (u - vec2(pl)) * (pl.z / (pl.z + f.delta));
