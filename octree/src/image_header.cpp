@@ -99,17 +99,26 @@ std::string check_exr_header(const std::string& path, double max_pixels) {
         return "OpenEXR attribute '" + printable(name) + "' of type " + type + " states " + std::to_string(size) +
                " bytes; the type has " + std::to_string(fixed);
       }
-      if (name == "channels") {
-        // chlist: per channel NAME\0, 16 bytes of type and sampling; a final \0.
-        if (type != "chlist") return malformed;
+      if (name == "channels" && type != "chlist") return malformed;
+      if (type == "chlist") {
+        // Per channel NAME\0, 16 bytes of type and sampling; a final \0,
+        // which must be the value's last byte: OpenEXR reads channels up to
+        // that \0 whatever size the file states, and one that is missing
+        // had it read on into the next attributes (an unknown attribute's
+        // stated size, 1.66 GB, then allocated: the environment target).
         int channels = 0;
-        for (size_t c = at; c < at + size_t(size) && b[c] != 0; ++channels) {
+        size_t c = at;
+        for (; c < at + size_t(size) && b[c] != 0; ++channels) {
           const void* end = std::memchr(b.data() + c, 0, at + size_t(size) - c);
           if (!end) return malformed;
           c = size_t(static_cast<const uint8_t*>(end) - b.data()) + 1 + 16;
           if (c > at + size_t(size)) return malformed;
         }
-        if (channels > kMaxExrChannels) {
+        if (c + 1 != at + size_t(size)) {
+          return "OpenEXR attribute '" + printable(name) +
+                 "' of type chlist: its channel list does not end where its " + std::to_string(size) + " bytes do";
+        }
+        if (name == "channels" && channels > kMaxExrChannels) {
           return "OpenEXR image of " + std::to_string(channels) + " channels, more than the limit of " +
                  std::to_string(kMaxExrChannels);
         }
