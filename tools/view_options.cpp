@@ -337,11 +337,6 @@ void check_luminaire_args(const LuminaireArgs& o) {
                                   std::to_string(n) + " luminaires: give it once, or once per --luminaire");
     }
   }
-  for (float k : o.scale) {
-    if (!(k > 0.0f && std::isfinite(k))) {
-      throw std::invalid_argument("--luminaire-scale " + std::to_string(k) + ": must be a finite number above 0");
-    }
-  }
   for (const auto& t : o.at) parse_point(t, "--luminaire-at");
   for (const auto& t : o.aim) parse_point(t, "--luminaire-aim");
 }
