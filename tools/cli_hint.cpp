@@ -62,6 +62,17 @@ std::string with_suggestion(const std::string& what, const std::string& word, co
 
 }  // namespace
 
+const CLI::Validator& positive_number() {
+  static const CLI::Validator check(
+      [](const std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return text + " is not a number";
+        return value > 0.0 ? std::string() : text + " is not a positive number";
+      },
+      "POSITIVE");
+  return check;
+}
+
 std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
   std::vector<std::string> prefixed;
   for (const auto& n : names) {

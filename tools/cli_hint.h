@@ -30,6 +30,12 @@ CommandLineHint command_line_hint(CLI::App& app, int argc, const char* const* ar
 // the word's length (at least 1); empty when none is that close.
 std::string closest_name(const std::string& word, const std::vector<std::string>& names);
 
+// A check for options that must be greater than 0: "0 is not a positive
+// number". CLI::PositiveNumber refuses 0 naming its range, "0.000000 to"
+// DBL_MAX written out in 309 digits. Non-finite values are refused before
+// parsing (CommandLineHint::non_finite).
+const CLI::Validator& positive_number();
+
 // The body of main() for svo and svo-render: parses argv into `app` (named
 // after the program, with its commands added) and runs the command; help
 // and version on stdout, any error as one line "<command>: <message>" on

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_hint.h"
 #include "commands.h"
 #include "output_checks.h"
 #include "svo/reference/compare.h"
@@ -65,7 +66,7 @@ void add_compare_command(CLI::App& app, int& exit_code) {
   auto* scale_option = cmd->add_option("--diff-scale", a->diff_scale,
                                        "Error shown as the top of the colour map, for diffs on one scale "
                                        "(default: the 99th percentile, see --diff)")
-                           ->check(CLI::PositiveNumber)
+                           ->check(positive_number())
                            ->group("Output");
   cmd->add_option("--diff-percentile", a->diff_percentile,
                   "The top of the colour map at this percentile of the per-pixel error over covered pixels "

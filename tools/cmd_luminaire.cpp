@@ -12,6 +12,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "cli_hint.h"
 #include "commands.h"
 #include "svo/render/image_io.h"
 #include "svo/render/luminaire.h"
@@ -194,16 +195,16 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
       ->group("Light field");
   make->add_option("--radiance", m->radiance, "Peak radiance (W m^-2 sr^-1 per channel), > 0")
       ->default_val(1000.0f)
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->group("Light field");
   auto* beam = make->add_option("--beam", m->beam, "headlight: the spot's width, a fraction of S's extent, > 0")
                    ->default_val(0.08f)
-                   ->check(CLI::PositiveNumber)
+                   ->check(positive_number())
                    ->group("Headlight");
   auto* focus = make->add_option("--focus", m->focus,
                                  "headlight, led: where the beams converge, metres beyond S, > 0 (default: headlight "
                                  "0.5, led 0.12)")
-                    ->check(CLI::PositiveNumber)
+                    ->check(positive_number())
                     ->group("Headlight");
   auto* leds = make->add_option("--leds", m->leds, "led: dies per side, 1 to 8")
                    ->default_val(3)
@@ -211,7 +212,7 @@ void add_luminaire_command(CLI::App& app, int& exit_code) {
                    ->group("LED");
   auto* die = make->add_option("--die", m->die, "led: each die's spot width, a fraction of S's extent, > 0")
                   ->default_val(0.015f)
-                  ->check(CLI::PositiveNumber)
+                  ->check(positive_number())
                   ->group("LED");
   auto* checks = make->add_option("--checks", m->checks, "panel: checker squares per side, 1 to 1024")
                      ->default_val(4)

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli_hint.h"
 #include "commands.h"
 #include "memory.h"
 #include "output_checks.h"
@@ -211,7 +212,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group("Timing");
   cmd->add_option("--max-memory", a->max_memory_mb,
                   "Refuse a frame whose host memory estimate is above this, MiB (default: available memory)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->group("Limits");
 
   cmd->callback([a, &exit_code] {

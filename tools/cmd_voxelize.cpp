@@ -9,6 +9,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "cli_hint.h"
 #include "commands.h"
 #include "memory.h"
 #include "output_checks.h"
@@ -81,7 +82,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       ->group("Octree");
   cmd->add_option("--max-memory", a->max_memory_mb,
                   "Refuse to start above this estimated memory, MiB (default: available memory)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->group("Limits");
   cmd->add_flag("--json", a->json,
                 "Print one JSON object on stdout: seconds, peak_rss_mb, voxels, bytes_per_voxel, ...");

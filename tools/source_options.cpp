@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "cli_hint.h"
 #include "svo/render/image_io.h"
 
 namespace svo::tools {
@@ -47,11 +48,11 @@ void add_source_options(CLI::App& cmd, SourceOptions& o) {
       ->default_val(0)
       ->group("Detail");
   cmd.add_option("--detail-amplitude", o.detail_amplitude, "Amplitude of the first detail octave, scene units")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->default_val(0.002f)
       ->group("Detail");
   cmd.add_option("--detail-wavelength", o.detail_wavelength, "Wavelength of the first detail octave, scene units")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->default_val(0.02f)
       ->group("Detail");
   cmd.add_option("--detail-seed", o.detail_seed, "Seed of the detail noise")->default_val(1)->group("Detail");

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "cli_hint.h"
 #include "svo/render/camera.h"
 #include "svo/render/passes.h"
 
@@ -248,14 +249,14 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
                  "The luminaire's emitting plane across, scene units (default: its own size in metres, as recorded "
                  "in the file)")
       ->allow_extra_args(false)
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->group("Luminaires");
   cmd.add_option("--luminaire-scale", o.scale,
                  "Multiply the luminaire's radiance by S (default 1). An imported ray file's radiance is in its own "
                  "flux unit per mm^2 sr (docs/luminaire.md): a real LED lights a scene far below the default "
                  "lights, so raise it here or with --exposure")
       ->allow_extra_args(false)
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->group("Luminaires");
   cmd.add_option(
          "--sampler", o.sampler,
