@@ -269,17 +269,20 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   r.v.a_s = vec3(0.0f);
   r.dn = mat3(0.0f);
   float kept = 0.0f;  // the shading fields' weight
-  // The corners' normals, and the one facing the eye most (svo_facing_weight).
-  vec3 ns[8];
+  // The normal facing the eye most of the corners' (svo_facing_weight). The
+  // loop below fetches the normals again: kept in an array (which the
+  // dialect rules out), they made lavapipe's whole trace kernel 2.1x slower
+  // (bumpy sphere 256^3, mid view, 512^2: 1842 against 871 ms), since it
+  // holds a private array in memory; natively the two cost the same.
   vec3 front = vec3(0.0f);
   if (normal) {
     float best = -2.0f;
     for (uint k = 0u; k < 8u; ++k) {
-      ns[k] = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
-      float f = dot(ns[k], toward);
+      vec3 n = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+      float f = dot(n, toward);
       if (f > best) {
         best = f;
-        front = ns[k];
+        front = n;
       }
     }
   }
@@ -300,7 +303,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
       r.v.sh2 = first ? wk * x : r.v.sh2 + wk * x;
     }
     if (!normal) continue;
-    vec3 n = ns[k];
+    vec3 n = svo_fetch_normal(cell.brick, s);
     float facing = svo_facing_weight(n, toward, front);
     wk *= facing;
     kept += wk;
