@@ -71,19 +71,29 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
   uvec4 alpha = uvec4(0u);
   float coverage = 0.0f;
   uint steps = 0u;
-  while (m.t < t1 && steps < params.tree.z) {
-    steps += 1u;
-    svo_step(m, cone, mode);
-    if (!m.hit) continue;
-    // Weight of this element: the bits it sets first, or its opacity in alpha mode.
-    float weight;
-    uvec4 fresh = m.mask & ~alpha;
-    if (mode == SVO_MODE_ALPHA) {
-      weight = (1.0f - coverage) * float(svo_popcount(m.mask)) / 128.0f;
-    } else {
-      weight = float(svo_popcount(fresh)) / 128.0f;
+  // The march stops at each element that covers part of the footprint, to
+  // shade it outside the march's own loop: a SIMD group (lavapipe) then
+  // marches until each of its lanes has found its next element and shades
+  // them together, where shading inside the loop ran it in every step that
+  // any lane needed it.
+  bool open = true;
+  while (open) {
+    float weight = 0.0f;
+    uvec4 fresh = uvec4(0u);
+    while (m.t < t1 && steps < params.tree.z) {
+      steps += 1u;
+      svo_step(m, cone, mode);
+      if (!m.hit) continue;
+      // Weight of this element: the bits it sets first, or its opacity in alpha mode.
+      fresh = m.mask & ~alpha;
+      if (mode == SVO_MODE_ALPHA) {
+        weight = (1.0f - coverage) * float(svo_popcount(m.mask)) / 128.0f;
+      } else {
+        weight = float(svo_popcount(fresh)) / 128.0f;
+      }
+      if (weight > 0.0f) break;
     }
-    if (!(weight > 0.0f)) continue;
+    if (!(weight > 0.0f)) break;
     // The element shades the part of the footprint it covers first: the
     // centre and spread of its fresh bits.
     bool parts = mode == SVO_MODE_PREFILTERED && (params.image.w & SVO_FLAG_COVERED_PART) != 0u;
@@ -105,7 +115,7 @@ SVO_FN SvoPixel svo_trace_cone(vec2 at, float k, uint mode) {
     }
     coverage += weight;
     alpha = alpha | m.mask;
-    if (mode == SVO_MODE_ALPHA ? coverage >= 0.999f : svo_popcount(alpha) == 128) break;
+    open = mode == SVO_MODE_ALPHA ? coverage < 0.999f : svo_popcount(alpha) != 128;
   }
   SvoPixel px;
   coverage = min(coverage, 1.0f);
