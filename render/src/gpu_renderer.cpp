@@ -24,6 +24,38 @@ constexpr uint32_t kRaysPerDispatch = 16;  // raymarch: rays per pixel in one di
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
+// Writes the pixels of the trace's images outside `rect` as the kernel
+// would (svo_background_pixel: the background, no coverage, no steps, an
+// empty G-buffer texel), where it is not run. Returns the milliseconds taken.
+double fill_background(FrameImages& images, const RenderSettings& settings, const TraceParams& p, PixelRect rect) {
+  const uint32_t width = settings.width, height = settings.height;
+  if (rect.x0 == 0 && rect.y0 == 0 && rect.x1 == width && rect.y1 == height) return 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto colour = images.texels<glm::vec4>(images.read(colour_image()));
+  auto background = images.texels<glm::vec4>(images.read(background_image()));
+  auto steps = images.texels<uint32_t>(images.read(steps_image()));
+  auto gbuffer = settings.gbuffer ? images.texels<glm::vec4>(images.read(gbuffer_image())) : std::span<glm::vec4>();
+  constexpr uint32_t n4 = svo::math::SVO_GBUFFER_VEC4S;
+  glm::vec4 empty[n4];
+  for (uint32_t k = 0; k < n4; ++k) empty[k] = svo::math::svo_gbuffer_pack(svo::math::svo_gbuffer_empty(), k);
+  const glm::vec3 bg(p.background);
+  for (uint32_t y = 0; y < height; ++y) {
+    const bool row_inside = y >= rect.y0 && y < rect.y1;
+    for (uint32_t x = 0; x < width; ++x) {
+      if (row_inside && x == rect.x0) {
+        x = rect.x1 - 1;
+        continue;
+      }
+      const size_t i = size_t(y) * width + x;
+      colour[i] = glm::vec4(bg, 0.0f);
+      background[i] = glm::vec4(bg, 1.0f);
+      steps[i] = 0;
+      if (!gbuffer.empty()) std::copy(empty, empty + n4, &gbuffer[n4 * i]);
+    }
+  }
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 // The cone tracer as the first pass: writes "colour", "background",
 // "gbuffer" (when the settings ask for it) and "steps".
 class TracePass : public Pass {
@@ -56,7 +88,16 @@ class TracePass : public Pass {
                                          settings.gbuffer ? buffer(gbuffer_image()) : &no_gbuffer_,
                                          buffer(steps_image()), buffer(background_image())};
     octree_.bind(p, bound);
-    const uint32_t gx = (settings.width + kGroup - 1) / kGroup, gy = (settings.height + kGroup - 1) / kGroup;
+    // Only the work groups over the pixels whose cones may meet the domain:
+    // lavapipe runs a kernel's code for every lane of a SIMD group, even
+    // lanes that returned, so a pixel that misses costs it far more than
+    // writing the background here (an all-miss 512^2 frame: 52 ms).
+    const PixelRect rect = domain_pixel_rect(p);
+    const double fill_ms = fill_background(images, settings, p, rect);
+    const uint32_t bx = rect.x0 / kGroup, by = rect.y0 / kGroup;
+    const uint32_t gx = rect.empty() ? 0 : (rect.x1 + kGroup - 1) / kGroup - bx;
+    const uint32_t gy = rect.empty() ? 0 : (rect.y1 + kGroup - 1) / kGroup - by;
+    if (gx == 0 || gy == 0) return fill_ms;
     // Many rays per pixel (raymarch): a few rows of the ray grid per
     // dispatch, averaged here. Lavapipe ends all loops of an invocation
     // after 65,535 iterations in total, which 64 rays of a march reach (the
@@ -65,7 +106,11 @@ class TracePass : public Pass {
     const uint32_t n = uint32_t(p.lens.w);
     const uint32_t rows = settings.mode == Mode::RayMarch ? std::max(1u, kRaysPerDispatch / n) : n;
     vk::ComputeKernel& kernel = kernel_for(settings);
-    if (rows >= n) return kernel.dispatch(bound, nullptr, gx, gy);
+    auto dispatch = [&] {
+      const double ms = kernel.dispatch_base(bound, nullptr, bx, by, gx, gy);
+      return ms < 0 ? ms : ms + fill_ms;
+    };
+    if (rows >= n) return dispatch();
     // Sums over the dispatches: colour and background weighted by the
     // share of rays, the G-buffer by coverage too (gbuffer.glsl).
     using svo::math::SvoGBuffer;
@@ -78,13 +123,13 @@ class TracePass : public Pass {
     auto bg = images.texels<glm::vec4>(images.read(background_image()));
     auto st = images.texels<uint32_t>(images.read(steps_image()));
     auto gb = settings.gbuffer ? images.texels<glm::vec4>(images.read(gbuffer_image())) : std::span<glm::vec4>();
-    double ms = 0;
+    double ms = fill_ms;
     for (uint32_t first = 0; first < n; first += rows) {
       p.lens.z = float(first);
       p.lens.w = float(std::min(rows, n - first));
       bound.resize(4);
       octree_.bind(p, bound);
-      double part = kernel.dispatch(bound, nullptr, gx, gy);
+      double part = kernel.dispatch_base(bound, nullptr, bx, by, gx, gy);
       ms = part < 0 || ms < 0 ? -1 : ms + part;
       const float w = p.lens.w / float(n);
       for (size_t i = 0; i < pixels; ++i) {

@@ -4,9 +4,12 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <limits>
 #include <glm/trigonometric.hpp>
 #include <stdexcept>
 #include <string>
@@ -145,6 +148,38 @@ PackedOctree pack_octree(const octree::Octree& tree) {
     }
   });
   return p;
+}
+
+PixelRect domain_pixel_rect(const TraceParams& p) {
+  const uint32_t width = p.image.x, height = p.image.y;
+  const PixelRect whole{0, 0, width, height};
+  if (p.cam_w.w > 0) return whole;
+  // A point eye + s (w + x u - y v) is seen at ndc (x, y) (svo_pixel_direction).
+  const glm::mat3 to_camera = glm::inverse(glm::mat3(glm::vec3(p.cam_w), glm::vec3(p.cam_u), -glm::vec3(p.cam_v)));
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  uint32_t behind = 0;
+  for (uint32_t k = 0; k < 8; ++k) {
+    const glm::vec3 corner =
+        glm::vec3(p.domain) + p.domain.w * glm::vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    const glm::vec3 q = to_camera * (corner - glm::vec3(p.eye));
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) return whole;
+    if (q.x < 0.0f) {
+      behind += 1;
+      continue;
+    }
+    if (!(q.x > 1e-4f * glm::length(corner - glm::vec3(p.eye)))) return whole;
+    const glm::vec2 at = (glm::vec2(q.y, q.z) / q.x + 1.0f) * 0.5f * glm::vec2(float(width), float(height));
+    lo = glm::min(lo, at);
+    hi = glm::max(hi, at);
+  }
+  // The whole box behind the eye: every cone looks away from it.
+  if (behind == 8) return PixelRect{};
+  if (behind > 0) return whole;
+  // Pixel i's centre is at i + 0.5; 2 pixels of margin on each side.
+  auto first = [](float x, uint32_t n) { return uint32_t(std::clamp(std::floor(x) - 2.0f, 0.0f, float(n))); };
+  auto end = [](float x, uint32_t n) { return uint32_t(std::clamp(std::ceil(x) + 2.0f, 0.0f, float(n))); };
+  PixelRect r{first(lo.x, width), first(lo.y, height), end(hi.x, width), end(hi.y, height)};
+  return r.empty() ? PixelRect{} : r;
 }
 
 TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& packed, const RenderSettings& s) {

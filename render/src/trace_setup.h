@@ -22,6 +22,22 @@ static_assert(sizeof(TraceParams) == 28 * 16, "std430 layout: vec4/uvec4 members
 // fills the parameters of a trace of `tree`.
 TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& packed, const RenderSettings& settings);
 
+// Pixels [x0, x1) x [y0, y1) of an image.
+struct PixelRect {
+  uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x0 >= x1 || y0 >= y1; }
+};
+
+// The pixels of a trace with `p` whose cones may meet the domain: the
+// bounding rectangle of the domain box's projected corners, 2 pixels wider
+// on each side (raymarch rays reach 0.56 pixel from the centre). Every pixel
+// outside it is the background: its pinhole cone's axis (or each ray of
+// raymarch mode) misses the box, the test svo_trace_pixel makes before the
+// cone's set-up. The whole image when the eye is inside or beside the box
+// (some corners in front of it, some not) and for a lens (a defocused cone
+// is wider than the pixel); empty when the box is out of view.
+PixelRect domain_pixel_rect(const TraceParams& p);
+
 // The mask table the tracers use (built once, shared).
 const MaskTable& tracer_mask_table();
 

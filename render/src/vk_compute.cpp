@@ -145,6 +145,7 @@ ComputeKernel::ComputeKernel(Context& context, std::span<const uint32_t> spirv, 
                             specialization.data()};
   if (!specialization.empty()) pipeline.stage.pSpecializationInfo = &spec;
   pipeline.layout = layout_;
+  pipeline.flags = VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;  // dispatch_base()
   SVO_VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_));
 
   VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage_buffers_ > 0 ? storage_buffers_ : 1};
@@ -188,6 +189,16 @@ void ComputeKernel::release() {
 
 double ComputeKernel::dispatch(std::span<const Buffer* const> buffers, const void* push, uint32_t groups_x,
                                uint32_t groups_y, uint32_t groups_z) {
+  return dispatch_at(buffers, push, {0, 0}, {groups_x, groups_y, groups_z});
+}
+
+double ComputeKernel::dispatch_base(std::span<const Buffer* const> buffers, const void* push, uint32_t base_x,
+                                    uint32_t base_y, uint32_t groups_x, uint32_t groups_y) {
+  return dispatch_at(buffers, push, {base_x, base_y}, {groups_x, groups_y, 1});
+}
+
+double ComputeKernel::dispatch_at(std::span<const Buffer* const> buffers, const void* push, glm::uvec2 base,
+                                  glm::uvec3 groups) {
   if (buffers.size() != storage_buffers_) {
     throw Error("Vulkan: kernel expects " + std::to_string(storage_buffers_) + " buffers, got " +
                 std::to_string(buffers.size()));
@@ -217,7 +228,11 @@ double ComputeKernel::dispatch(std::span<const Buffer* const> buffers, const voi
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
     if (push_bytes_ > 0) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
-    vkCmdDispatch(cmd, groups_x, groups_y, groups_z);
+    if (base == glm::uvec2(0)) {
+      vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+    } else {
+      vkCmdDispatchBase(cmd, base.x, base.y, 0, groups.x, groups.y, groups.z);
+    }
     if (queries_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;

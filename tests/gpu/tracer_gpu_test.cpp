@@ -178,5 +178,49 @@ TEST_F(TracerGpu, PoolsSplitAcrossBuffersRenderTheSameImage) {
   expect_silent(context);
 }
 
+// The Vulkan host traces only the pixels whose cones may meet the domain
+// and writes the background elsewhere: a small, off-centre domain after a
+// frame that covered the whole image, then a frame looking away, each the
+// CPU tracer's picture, G-buffer included (no pixel kept from the frame
+// before), in a frame of each mode.
+TEST_F(TracerGpu, PixelsAwayFromTheDomainAreThisFramesBackground) {
+  vk::Context context(validated());
+  GpuRenderer gpu(context, *tree_);
+  RenderSettings close = view(40);
+  close.camera = test::looking_at_origin({0.2f, 0.1f, 0.9f}, 60.0f);
+  close.gbuffer = true;
+  close.background = glm::vec3(0.2f, 0.3f, 0.4f);
+  RenderSettings aside = close;
+  aside.camera = test::looking_at_origin({2.5f, 1.5f, 4.0f}, 30.0f);
+  aside.camera.target = glm::vec3(0.6f, -0.5f, 0.0f);
+  RenderSettings away = close;
+  away.camera.target = 2.0f * close.camera.eye;
+  for (Mode mode : {Mode::Prefiltered, Mode::RayMarch}) {
+    for (RenderSettings* s : {&close, &aside, &away}) {
+      s->mode = mode;
+      s->spp = mode == Mode::RayMarch ? 4 : 1;
+    }
+    Frame first = gpu.render(close);
+    EXPECT_EQ(first.covered_pixels, close.width * close.height) << mode_name(mode);
+    for (const RenderSettings* s : {&aside, &away}) {
+      Frame g = gpu.render(*s), c = render_cpu(*tree_, *s);
+      Difference d = compare(g, c, 0.02f);
+      EXPECT_LT(d.mean, 2e-3) << mode_name(mode);
+      EXPECT_LT(d.above, 0.01) << mode_name(mode);
+      size_t background = 0;
+      for (size_t i = 0; i < g.colour.size(); ++i) {
+        if (c.colour[i].a > 0) continue;
+        ++background;
+        EXPECT_EQ(g.colour[i], glm::vec4(s->background, 0.0f)) << mode_name(mode) << " pixel " << i;
+        EXPECT_EQ(g.gbuffer[i].coverage, 0.0f) << mode_name(mode) << " pixel " << i;
+        EXPECT_EQ(g.steps[i], c.steps[i]) << mode_name(mode) << " pixel " << i;
+      }
+      EXPECT_GT(background, g.colour.size() / 2) << mode_name(mode);
+    }
+    EXPECT_EQ(gpu.render(away).covered_pixels, 0u) << mode_name(mode);
+  }
+  expect_silent(context);
+}
+
 }  // namespace
 }  // namespace svo::render

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <vector>
 
+#include "svo/render/octree_access.h"
 #include "test_scenes.h"
+#include "trace_setup.h"
 
 namespace svo::render {
 namespace {
@@ -191,6 +193,58 @@ TEST(Tracer, RejectsBadSettingsWithAMessage) {
     s.shading_voxel = voxel;
     EXPECT_THROW(render_cpu(tree, s), std::invalid_argument) << voxel;
   }
+}
+
+// The Vulkan host runs the tracer only over domain_pixel_rect and writes
+// the background elsewhere: every pixel outside it must miss the domain box
+// (the test svo_trace_pixel makes), for cameras near and far, aimed at the
+// domain, past it and away from it; and the rectangle must be tight enough
+// to spare a far view's empty pixels and the whole of a view away from it.
+TEST(Tracer, PixelsOutsideTheDomainRectangleMissTheDomain) {
+  test::SphereScene sphere(0.5f);
+  octree::Octree tree = test::voxelize(sphere, 16);
+  PackedOctree packed = pack_octree(tree);
+  const glm::vec3 lo = tree.origin, hi = tree.origin + glm::vec3(tree.size);
+  uint32_t state = 12345u;
+  auto uniform = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  int tight = 0, empty = 0, whole = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    RenderSettings s;
+    s.width = 24 + uint32_t(40 * uniform());
+    s.height = 24 + uint32_t(40 * uniform());
+    glm::vec3 dir = glm::normalize(glm::vec3(uniform(), uniform(), uniform()) * 2.0f - 1.0f);
+    s.camera.eye = dir * (0.9f + 6.0f * uniform());
+    s.camera.target = glm::vec3(uniform(), uniform(), uniform()) * 4.0f - 2.0f;
+    if (trial % 3 == 0) s.camera.target = 2.0f * s.camera.eye + 0.5f * s.camera.target;  // looking away
+    s.camera.up = glm::vec3(0, 1, 0);
+    s.camera.fov_deg = 10.0f + 110.0f * uniform();
+    TraceParams p = make_trace_params(tree, packed, s);
+    PixelRect r = domain_pixel_rect(p);
+    ASSERT_LE(r.x1, s.width);
+    ASSERT_LE(r.y1, s.height);
+    if (r.empty()) ++empty;
+    else if (r.x0 == 0 && r.y0 == 0 && r.x1 == s.width && r.y1 == s.height) ++whole;
+    else ++tight;
+    for (uint32_t y = 0; y < s.height; ++y) {
+      for (uint32_t x = 0; x < s.width; ++x) {
+        if (!r.empty() && x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1) continue;
+        glm::vec3 d = pixel_ray(s.camera, s.width, s.height, float(x) + 0.5f, float(y) + 0.5f);
+        glm::vec3 inv = 1.0f / d;
+        glm::vec3 t0 = (lo - s.camera.eye) * inv, t1 = (hi - s.camera.eye) * inv;
+        glm::vec3 near = glm::min(t0, t1), far = glm::max(t0, t1);
+        float entry = std::max(std::max(std::max(near.x, near.y), near.z), 0.0f);
+        float exit = std::min(std::min(far.x, far.y), far.z);
+        ASSERT_FALSE(entry < exit) << "trial " << trial << ": pixel " << x << "," << y << " outside [" << r.x0
+                                   << ", " << r.x1 << ") x [" << r.y0 << ", " << r.y1 << ") meets the domain";
+      }
+    }
+  }
+  std::printf("rectangles: %d tight, %d empty, %d whole image\n", tight, empty, whole);
+  EXPECT_GT(tight, 60);
+  EXPECT_GT(empty, 30);
 }
 
 }  // namespace

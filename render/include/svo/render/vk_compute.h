@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
 
@@ -80,9 +82,15 @@ class ComputeKernel {
   // no timestamps.
   double dispatch(std::span<const Buffer* const> buffers, const void* push, uint32_t groups_x, uint32_t groups_y = 1,
                   uint32_t groups_z = 1);
+  // The same with the work groups' indices starting at (base_x, base_y)
+  // (vkCmdDispatchBase: gl_WorkGroupID and gl_GlobalInvocationID count from
+  // there).
+  double dispatch_base(std::span<const Buffer* const> buffers, const void* push, uint32_t base_x, uint32_t base_y,
+                       uint32_t groups_x, uint32_t groups_y);
 
  private:
   void release();  // destroys every handle created so far
+  double dispatch_at(std::span<const Buffer* const> buffers, const void* push, glm::uvec2 base, glm::uvec3 groups);
 
   Context& context_;
   std::vector<uint32_t> binding_counts_;
