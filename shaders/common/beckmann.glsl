@@ -66,15 +66,27 @@ SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2_in) {
 //   f(v, l) = D(h) G2(v, l) / (4 (n.v) (n.l)),
 // height-correlated Smith G2 with the same (floored) variances as D.
 // Zero when v or l is at or below the mean plane; symmetric in v and l.
-SVO_FN float svo_specular_brdf(vec3 v, vec3 l, vec2 sigma2) {
+// The variances svo_specular_brdf uses: sigma2 floored as the NDF's.
+SVO_FN vec2 svo_specular_variance(vec2 sigma2) {
+  return max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
+}
+
+// svo_specular_brdf given lambda_v = svo_smith_lambda_dir(v, s2) with s2 =
+// svo_specular_variance(sigma2): a shading point with several lights
+// computes the view's once.
+SVO_FN float svo_specular_brdf_view(vec3 v, vec3 l, vec2 s2, float lambda_v) {
   if (!(v.z > 0.0f) || !(l.z > 0.0f)) return 0.0f;
   vec3 h = v + l;
   float hl = length(h);
   if (!(hl > 0.0f)) return 0.0f;
   h = h / hl;
-  vec2 s2 = max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
-  float g2 = svo_smith_g2(svo_smith_lambda_dir(v, s2), svo_smith_lambda_dir(l, s2));
+  float g2 = svo_smith_g2(lambda_v, svo_smith_lambda_dir(l, s2));
   return svo_beckmann_d(h, s2) * g2 / (4.0f * v.z * l.z);
+}
+
+SVO_FN float svo_specular_brdf(vec3 v, vec3 l, vec2 sigma2) {
+  vec2 s2 = svo_specular_variance(sigma2);
+  return svo_specular_brdf_view(v, l, s2, v.z > 0.0f ? svo_smith_lambda_dir(v, s2) : 0.0f);
 }
 
 #endif

@@ -210,6 +210,8 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   float lambda_v = mode == SVO_MODE_PREFILTERED ? svo_smith_lambda_dir(vl, sn2) : 0.0f;
   vec3 a_view = mode == SVO_MODE_PREFILTERED ? svo_attribute_vl3(m.v.abar, m.v.a_s, lambda_v) : m.v.abar;
   s.radiance = vec3(params.ambient) * a_view;
+  vec2 specular_s2 = svo_specular_variance(total);
+  float specular_lambda_v = vl.z > 0.0f ? svo_smith_lambda_dir(vl, specular_s2) : 0.0f;
   for (uint i = 0u; i < params.tree.w; ++i) {
     SvoLightSample light = svo_light_at(i, m.p);
     vec3 l = light.l;
@@ -238,7 +240,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
       lambda_own = svo_smith_lambda_dir(ll, max(sn2 - lobe, vec2(0.0f)));
     }
     vec3 diffuse = a * (lambert / SVO_PI) / (1.0f + lambda_own);
-    vec3 specular = vec3(params.material.y * svo_specular_brdf(vl, ll, total) * ndl);
+    vec3 specular = vec3(params.material.y * svo_specular_brdf_view(vl, ll, specular_s2, specular_lambda_v) * ndl);
     s.radiance += e * (diffuse + specular) * visible;
   }
   s.abar = a_view;

@@ -32,7 +32,7 @@ SVO_FN float svo_height_sigmoid(float h, float sigma_h) {
 // float), so a >= 2 uses the continued fraction of erfcx,
 //   sqrt(pi) erfcx(a) = 1 / (a + t),  t = (1/2) / (a + (2/2) / (a + (3/2) / ...)),
 // which turns the difference into exp(-a^2) t / (2 sqrt(pi) a (a + t)), with no
-// cancellation (16 terms: relative error below 2e-7 for a >= 2).
+// cancellation (16 terms at a = 2: relative error 1.4e-7; fewer beyond).
 // Returns a value in [0, SVO_LAMBDA_MAX]; a <= 0 (or NaN) means fully masked.
 SVO_FN float svo_smith_lambda_a(float a) {
   if (!(a > 0.0f)) return SVO_LAMBDA_MAX;
@@ -44,8 +44,13 @@ SVO_FN float svo_smith_lambda_a(float a) {
   } else if (a < 2.0f) {
     lambda = 0.5f * e * (1.0f / (a * SVO_SQRT_PI) - svo_erfcx_large(a));
   } else {
+    // The fraction converges faster as a grows: 16 terms below a = 3, 10
+    // below 4, 8 below 6 and 6 beyond keep the truncation's relative error
+    // below 1e-7 (a double-precision check against 400 terms), with fewer
+    // of its chained divisions where smooth surfaces put most directions.
+    int terms = a < 3.0f ? 16 : (a < 4.0f ? 10 : (a < 6.0f ? 8 : 6));
     float t = 0.0f;
-    for (int k = 16; k >= 1; --k) t = (0.5f * float(k)) / (a + t);
+    for (int k = terms; k >= 1; --k) t = (0.5f * float(k)) / (a + t);
     lambda = e * (0.5f / SVO_SQRT_PI) * t / (a * (a + t));
   }
   return clamp(lambda, 0.0f, SVO_LAMBDA_MAX);
