@@ -9,8 +9,8 @@
 #include <cstring>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
-#include <limits>
 #include <glm/trigonometric.hpp>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>

@@ -62,10 +62,6 @@ SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2_in) {
   return max((l.z * lit + s * density + lean * lit) * shrink, 0.0f);
 }
 
-// Cook-Torrance specular lobe without Fresnel:
-//   f(v, l) = D(h) G2(v, l) / (4 (n.v) (n.l)),
-// height-correlated Smith G2 with the same (floored) variances as D.
-// Zero when v or l is at or below the mean plane; symmetric in v and l.
 // The variances svo_specular_brdf uses: sigma2 floored as the NDF's.
 SVO_FN vec2 svo_specular_variance(vec2 sigma2) {
   return max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
@@ -84,6 +80,10 @@ SVO_FN float svo_specular_brdf_view(vec3 v, vec3 l, vec2 s2, float lambda_v) {
   return svo_beckmann_d(h, s2) * g2 / (4.0f * v.z * l.z);
 }
 
+// Cook-Torrance specular lobe without Fresnel:
+//   f(v, l) = D(h) G2(v, l) / (4 (n.v) (n.l)),
+// height-correlated Smith G2 with the same (floored) variances as D.
+// Zero when v or l is at or below the mean plane; symmetric in v and l.
 SVO_FN float svo_specular_brdf(vec3 v, vec3 l, vec2 sigma2) {
   vec2 s2 = svo_specular_variance(sigma2);
   return svo_specular_brdf_view(v, l, s2, v.z > 0.0f ? svo_smith_lambda_dir(v, s2) : 0.0f);

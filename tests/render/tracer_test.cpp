@@ -225,9 +225,12 @@ TEST(Tracer, PixelsOutsideTheDomainRectangleMissTheDomain) {
     PixelRect r = domain_pixel_rect(p);
     ASSERT_LE(r.x1, s.width);
     ASSERT_LE(r.y1, s.height);
-    if (r.empty()) ++empty;
-    else if (r.x0 == 0 && r.y0 == 0 && r.x1 == s.width && r.y1 == s.height) ++whole;
-    else ++tight;
+    if (r.empty())
+      ++empty;
+    else if (r.x0 == 0 && r.y0 == 0 && r.x1 == s.width && r.y1 == s.height)
+      ++whole;
+    else
+      ++tight;
     for (uint32_t y = 0; y < s.height; ++y) {
       for (uint32_t x = 0; x < s.width; ++x) {
         if (!r.empty() && x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1) continue;
@@ -237,8 +240,8 @@ TEST(Tracer, PixelsOutsideTheDomainRectangleMissTheDomain) {
         glm::vec3 near = glm::min(t0, t1), far = glm::max(t0, t1);
         float entry = std::max(std::max(std::max(near.x, near.y), near.z), 0.0f);
         float exit = std::min(std::min(far.x, far.y), far.z);
-        ASSERT_FALSE(entry < exit) << "trial " << trial << ": pixel " << x << "," << y << " outside [" << r.x0
-                                   << ", " << r.x1 << ") x [" << r.y0 << ", " << r.y1 << ") meets the domain";
+        ASSERT_FALSE(entry < exit) << "trial " << trial << ": pixel " << x << "," << y << " outside [" << r.x0 << ", "
+                                   << r.x1 << ") x [" << r.y0 << ", " << r.y1 << ") meets the domain";
       }
     }
   }
