@@ -22,6 +22,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev          # command line, JSON output
   libxxhash-dev                            # XXH64 checksums of the .svo file
   libopenvdb-dev libboost-iostreams-dev    # mesh -> narrow-band signed distance (voxelizer only)
+  libopenvdb-tools                         # vdb_tool: the .vdb round trips through OpenVDB's own tool (cli.io_vdb_*)
   zlib1g-dev                               # needed by FindOpenVDB.cmake
   libopenmesh-dev                          # OBJ, PLY, OFF, STL input
   libtinygltf-dev                          # glTF 2.0 input (.gltf, .glb); images decoded by OpenImageIO

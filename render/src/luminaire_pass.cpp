@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -19,7 +20,24 @@ namespace svo::math {
 
 struct NativeLuminaire : render::NativeOctreeReader, render::NativeShadingReader {
   const float* lum_tables = nullptr;
+  // The G-buffer, and the state of pixels [state_begin, ...),
+  // state_stride entries each, made on demand: an entry is made when first
+  // read (kUnmade until then), so that the native host traces only the
+  // cells' cones that a sample reads, as the Vulkan host, which makes
+  // every entry first, cannot.
+  static constexpr uint32_t kUnmade = 0xFFFFFFFFu;
+  const glm::vec4* gbuffer = nullptr;
+  float* state = nullptr;
+  uint32_t state_begin = 0;
+  uint32_t state_stride = 0;
   float svo_lum_table(uint32_t i) const { return lum_tables[i]; }
+  float svo_lum_state(uint32_t pixel, uint32_t k) {
+    float& v = state[size_t(pixel - state_begin) * state_stride + k];
+    if (floatBitsToUint(v) == kUnmade) {
+      v = svo_luminaire_state(render::gbuffer_at(gbuffer + render::kGBufferVec4s * pixel), k, false);
+    }
+    return v;
+  }
 #include "common/luminaire.glsl"
 };
 
@@ -36,6 +54,9 @@ struct LuminairePass::Cache {
   std::vector<float> tables;
   std::unique_ptr<vk::Buffer> tables_buffer;
   std::unique_ptr<vk::ComputeKernel> kernel;
+  // The pixels' state (luminaire.glsl) of one band of pixels.
+  std::vector<float> state;
+  std::unique_ptr<vk::Buffer> state_buffer;
 
   const std::vector<float>& update(const LuminaireOptions& o) {
     auto same_placement = [](const LuminairePlacement& a, const LuminairePlacement& b) {
@@ -87,33 +108,52 @@ double LuminairePass::run(PassContext& ctx) {
   if (ctx.host == Host::Vulkan && quadrature > 0) {
     throw std::invalid_argument("the luminaire pass's quadrature runs on the native host only");
   }
+  // The pixels' state is made band by band, a band at most kStateBytes.
+  uint32_t stride = 0;
+  std::memcpy(&stride, &lum[7], sizeof stride);
+  stride = std::max(stride, 1u);
+  constexpr uint64_t kStateBytes = uint64_t(64) << 20;
+  const uint32_t band = uint32_t(std::min<uint64_t>(
+      std::max<uint64_t>(64, kStateBytes / (sizeof(float) * stride) / 64 * 64), (uint64_t(count) + 63) / 64 * 64));
   if (ctx.host == Host::Vulkan) {
     if (!c.kernel) {
       const auto spirv = octree.pick_kernel(svo_spv_luminaire_single_comp, svo_spv_luminaire_address_comp,
                                             svo_spv_luminaire_switch_comp);
       c.kernel =
-          std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 6 + octree.binding_count(), 4 * sizeof(uint32_t));
+          std::make_unique<vk::ComputeKernel>(*ctx.vulkan, spirv, 7 + octree.binding_count(), 8 * sizeof(uint32_t));
     }
     if (!c.tables_buffer) {
       c.tables_buffer = std::make_unique<vk::Buffer>(*ctx.vulkan, lum.size() * sizeof(float));
       std::memcpy(c.tables_buffer->data(), lum.data(), lum.size() * sizeof(float));
+    }
+    const size_t state_bytes = size_t(band) * stride * sizeof(float);
+    if (!c.state_buffer || c.state_buffer->size() < state_bytes) {
+      c.state_buffer.reset();
+      c.state_buffer = std::make_unique<vk::Buffer>(*ctx.vulkan, state_bytes);
     }
     std::vector<const vk::Buffer*> bound{gbuffer.buffer(),
                                          over_ ? gbuffer.buffer() : base.buffer(),
                                          out.buffer(),
                                          c.shading.params_buffer(*ctx.vulkan),
                                          c.shading.tables_buffer(*ctx.vulkan),
-                                         c.tables_buffer.get()};
+                                         c.tables_buffer.get(),
+                                         c.state_buffer.get()};
     octree.bind(params, bound);
     // A few samples per dispatch: llvmpipe stops an invocation's loops
     // past 65535 iterations together (forward.glsl), and every sample
     // searches two CDFs and may march a cone.
-    const uint32_t chunk = ctx.settings.luminaire.visibility == LuminaireVisibility::None ? 64 : 16;
+    const uint32_t chunk = ctx.settings.luminaire.visibility == LuminaireVisibility::Samples ? 16 : 256;
     double ms = 0;
-    for (uint32_t first = 0; first < samples; first += chunk) {
-      const uint32_t push[4] = {first, std::min(chunk, samples - first), over_ ? 1u : 0u, 0u};
-      const double t_ms = c.kernel->dispatch(bound, push, (count + 63) / 64);
-      ms = t_ms < 0 || ms < 0 ? -1 : ms + t_ms;
+    auto add = [&ms](double t_ms) { ms = t_ms < 0 || ms < 0 ? -1 : ms + t_ms; };
+    for (uint32_t begin = 0; begin < count; begin += band) {
+      const uint32_t end = std::min(count, begin + band);
+      const uint32_t groups = (end - begin + 63) / 64;
+      const uint32_t state_push[8] = {0, 0, 0, 1, begin, end, stride, 0};
+      add(c.kernel->dispatch(bound, state_push, groups, stride));
+      for (uint32_t first = 0; first < samples; first += chunk) {
+        const uint32_t push[8] = {first, std::min(chunk, samples - first), over_ ? 1u : 0u, 0, begin, end, stride, 0};
+        add(c.kernel->dispatch(bound, push, groups));
+      }
     }
     return ms;
   }
@@ -122,21 +162,35 @@ double LuminairePass::run(PassContext& ctx) {
   const auto* g = static_cast<const glm::vec4*>(gbuffer.data());
   const auto* in = static_cast<const glm::vec4*>(base.data());
   auto* colour = static_cast<glm::vec4*>(out.data());
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& r) {
-    for (uint32_t i = r.begin(); i != r.end(); ++i) {
-      const svo::math::SvoGBuffer texel = gbuffer_at(g + kGBufferVec4s * i);
-      if (quadrature == 0) {
-        colour[i] = kernel.svo_luminaire_texel(texel, in[i], i, over_, 0, samples);
-        continue;
+  if (quadrature > 0) {
+    // The texel as the estimator's (no samples, so no state), plus the
+    // quadrature.
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& r) {
+      for (uint32_t i = r.begin(); i != r.end(); ++i) {
+        const svo::math::SvoGBuffer texel = gbuffer_at(g + kGBufferVec4s * i);
+        glm::vec4 sum = kernel.svo_luminaire_texel(texel, in[i], i, over_, 0, 0);
+        for (uint32_t l = 0; l < ctx.settings.luminaire.luminaires.size(); ++l) {
+          sum += glm::vec4(kernel.svo_luminaire_quadrature(texel, l, quadrature), 0.0f);
+        }
+        colour[i] = sum;
       }
-      // The texel as the estimator's (no samples), plus the quadrature.
-      glm::vec4 sum = kernel.svo_luminaire_texel(texel, in[i], i, over_, 0, 0);
-      for (uint32_t l = 0; l < ctx.settings.luminaire.luminaires.size(); ++l) {
-        sum += glm::vec4(kernel.svo_luminaire_quadrature(texel, l, quadrature), 0.0f);
-      }
-      colour[i] = sum;
+    });
+  } else {
+    c.state.resize(size_t(band) * stride);
+    kernel.gbuffer = g;
+    kernel.state = c.state.data();
+    kernel.state_stride = stride;
+    for (uint32_t begin = 0; begin < count; begin += band) {
+      const uint32_t end = std::min(count, begin + band);
+      kernel.state_begin = begin;
+      std::fill(c.state.begin(), c.state.end(), glm::uintBitsToFloat(svo::math::NativeLuminaire::kUnmade));
+      tbb::parallel_for(tbb::blocked_range<uint32_t>(begin, end, 64), [&](const tbb::blocked_range<uint32_t>& r) {
+        for (uint32_t i = r.begin(); i != r.end(); ++i) {
+          colour[i] = kernel.svo_luminaire_texel(gbuffer_at(g + kGBufferVec4s * i), in[i], i, over_, 0, samples);
+        }
+      });
     }
-  });
+  }
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 

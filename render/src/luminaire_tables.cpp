@@ -85,6 +85,9 @@ std::vector<float> build_luminaire_tables(const LuminaireOptions& options) {
   t[4] = bits(std::max(options.spp, 1u));
   t[5] = bits(options.kmax);
   t[6] = bits(options.seed);
+  const bool by_cell =
+      options.visibility == LuminaireVisibility::Cells || options.visibility == LuminaireVisibility::CellsOnU;
+  uint64_t state = 0;  // the entries of a pixel's state (luminaire.glsl)
   for (uint32_t l = 0; l < count; ++l) {
     const LightField& field = *options.luminaires[l].field;
     validate_light_field(field);
@@ -123,6 +126,8 @@ std::vector<float> build_luminaire_tables(const LuminaireOptions& options) {
     b[24] = bits(uint32_t(cells));
     b[26] = bits(uint32_t(image_cdf));
     b[27] = bits(n);
+    b[28] = bits(uint32_t(state));
+    state += 2 + (by_cell ? uint64_t(cw) * ch : 0);
 
     std::vector<double> energy(M, 0.0);
     std::vector<glm::vec2> half_way(M, glm::vec2(0.5f * w, 0.5f * h));
@@ -246,6 +251,7 @@ std::vector<float> build_luminaire_tables(const LuminaireOptions& options) {
     }
     t[image_cdf + M] = 1.0f;
   }
+  t[7] = bits(uint32_t(state));
   return t;
 }
 

@@ -421,29 +421,44 @@ SVO_FN SvoMaterialMix svo_material_mix(vec3 p, float radius) {
   }
   if (cell.brick == SVO_ABSENT) return r;
   SvoCorners c = svo_corners(cell, p);
-  uint index[8];
-  float weight[8];
+  // The corners' materials, a byte each (k < 4 in lo, the rest in hi), and
+  // their votes (the dialect has no arrays: prelude.glsl).
+  uint index_lo = 0u;
+  uint index_hi = 0u;
+  vec4 weight_lo = vec4(0.0f);
+  vec4 weight_hi = vec4(0.0f);
   for (uint k = 0u; k < 8u; ++k) {
     uint bytes = svo_brick_bytes(cell.brick, params.offsets_b.w + (c.first + svo_corner_offset(k)) * 2u);
-    index[k] = min(bytes & 255u, last);
-    weight[k] = svo_corner_weight(c.f, k) * float((bytes >> 8u) & 255u) / 255.0f;
+    uint index = min(bytes & 255u, last) << (8u * (k & 3u));
+    float weight = svo_corner_weight(c.f, k) * float((bytes >> 8u) & 255u) / 255.0f;
+    if (k < 4u) {
+      index_lo |= index;
+      weight_lo[k] = weight;
+    } else {
+      index_hi |= index;
+      weight_hi[k - 4u] = weight;
+    }
   }
   // Each corner's material with the votes of every corner showing it.
   float best = -1.0f;
   float second = 0.0f;
   for (uint k = 0u; k < 8u; ++k) {
+    uint index_k = ((k < 4u ? index_lo : index_hi) >> (8u * (k & 3u))) & 255u;
     float total = 0.0f;
-    for (uint j = 0u; j < 8u; ++j) total += index[j] == index[k] ? weight[j] : 0.0f;
-    if (index[k] == r.a && best >= 0.0f) continue;
+    for (uint j = 0u; j < 8u; ++j) {
+      uint index_j = ((j < 4u ? index_lo : index_hi) >> (8u * (j & 3u))) & 255u;
+      total += index_j == index_k ? (j < 4u ? weight_lo[j] : weight_hi[j - 4u]) : 0.0f;
+    }
+    if (index_k == r.a && best >= 0.0f) continue;
     if (total > best) {
       if (best >= 0.0f) {
         r.b = r.a;
         second = best;
       }
-      r.a = index[k];
+      r.a = index_k;
       best = total;
-    } else if (total > second && (second <= 0.0f || index[k] != r.b)) {
-      r.b = index[k];
+    } else if (total > second && (second <= 0.0f || index_k != r.b)) {
+      r.b = index_k;
       second = total;
     }
   }

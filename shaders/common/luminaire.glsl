@@ -17,8 +17,21 @@
 //   direction light leaves in), the texel area, S's extent, the image size
 //   w x h, the grid W x H, the images' offset and stride, the cells'
 //   offset, the total energy E (sum of luminance x texel area), the offset
-//   of the CDF over images by energy (global sampling), and the basis
-//   support in cells n. All lengths in scene units.
+//   of the CDF over images by energy (global sampling), the basis
+//   support in cells n, and (28) the offset of its entries in a pixel's
+//   state. All lengths in scene units.
+//   7: the entries of a pixel's state (svo_luminaire_state), the sum over
+//   luminaires of 2 + (with cell visibility) its cells.
+//
+// The pixel's state, per luminaire at its offset: A(p), the sum of A_m over
+// the images (Eq. 12); the count of images whose box is not empty; with
+// cell visibility, every cell's v (section 6.2), row by row. A host makes
+// each entry by svo_luminaire_state, one entry per call, and gives it back
+// by `float svo_lum_state(uint pixel, uint k)`: the Vulkan host makes every
+// entry of a pixel before its samples, the native one an entry when it is
+// first read. The cells' cones then run once per pixel, not per image or
+// per batch of samples, and no invocation keeps them in an array
+// (prelude.glsl's rule: lavapipe holds private arrays in memory).
 //   Image m at offset + m stride (texel coordinates: x in [0, w], y in [0, h]):
 //     the marginal CDF over columns, w + 1 floats (0 ... 1);
 //     each column's CDF over rows, w x (h + 1);
@@ -124,160 +137,250 @@ SVO_FN SvoLobe svo_lum_lobe(SvoShadingPoint p, SvoGBuffer g, uint pixel, uint i,
   return svo_sample_lobe(p, mat, svo_lum_rand(pixel, i, 2u, o.sequence, o.seed));
 }
 
+// Whether some image whose basis covers cell (a, b) draws samples at the
+// point (at `pl` in S's frame) in svo_luminaire_shade: its box is not empty
+// and, for the balanced samplers, holds light; on S (Eq. 9), it is lit at
+// the point. Global sampling may draw any image. A cell no image needs is
+// never read, so its cone is not traced: its entry is a NaN, so that a
+// change that reads it after all shows at once (the visibility tests).
+SVO_FN bool svo_lum_cell_needed(SvoLumInfo f, uint a, uint b, vec3 pl, bool on_s, SvoLumOptions o) {
+  if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) return true;
+  bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
+  vec2 t = svo_lum_to_texel(f, vec2(pl));
+  if (on_s && !(t.x >= 0.0f && t.y >= 0.0f && t.x < float(f.w) && t.y < float(f.h))) return false;
+  // Image (i, j)'s basis covers cells [i, i + n) x [j, j + n).
+  for (uint j = b + 1u > f.n ? b + 1u - f.n : 0u; j <= min(b, f.grid_h - 1u); ++j) {
+    for (uint i = a + 1u > f.n ? a + 1u - f.n : 0u; i <= min(a, f.grid_w - 1u); ++i) {
+      uint m = j * f.grid_w + i;
+      uint img = svo_lum_image(f, m);
+      if (on_s) {
+        vec3 c = svo_lum_texel_colour(f, img, t);
+        if (c.x + c.y + c.z > 0.0f) return true;
+        continue;
+      }
+      vec4 box = svo_lum_box(f, m, pl);
+      if (!(box.z > box.x) || !(box.w > box.y)) continue;
+      if (!balanced || svo_lum_area(f, img, box) > 0.0f) return true;
+    }
+  }
+  return false;
+}
+
+// Entry k of the pixel's state (the layout above; svo_lum_uint(7u) entries).
+// checked: a cell entry that no sample can read is a NaN, its cone not
+// traced (a host that makes every entry first); otherwise the cone is
+// traced (a host that makes an entry when a sample reads it).
+SVO_FN float svo_luminaire_state(SvoGBuffer g, uint k, bool checked) {
+  if (!(g.coverage > 0.0f)) return 0.0f;
+  SvoLumOptions o = svo_lum_options();
+  uint l = 0u;
+  while (l + 1u < o.count && svo_lum_uint(SVO_LUM_HEADER + SVO_LUM_BLOCK * (l + 1u) + 28u) <= k) ++l;
+  SvoLumInfo f = svo_lum_info(l);
+  k -= f.state;
+  SvoShadingPoint p = svo_shading_point(g);
+  vec3 pl = svo_lum_local(f, p.position);
+  float eps = 1.0e-5f * f.delta;
+  if (pl.z < -eps) return 0.0f;  // behind S
+  bool on_s = pl.z <= eps;
+  if (k < 2u) {
+    // A(p) and the images whose box is not empty, as svo_luminaire_shade
+    // balances them (Eq. 12); neither is read on S or by global sampling.
+    if (on_s || o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) return 0.0f;
+    bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
+    float area_total = 0.0f;
+    uint nonempty = 0u;
+    for (uint m = 0u; m < f.grid_w * f.grid_h; ++m) {
+      vec4 box = svo_lum_box(f, m, pl);
+      if (box.z > box.x && box.w > box.y) ++nonempty;
+      if (balanced && k == 0u) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
+    }
+    return k == 0u ? area_total : float(nonempty);
+  }
+  // v of cell k - 2: one cone towards the cell's reference position (section
+  // 6.2), or along the line to the cell on U (cells-on-u).
+  uint cell_w = f.grid_w + f.n - 1u;
+  uint a = (k - 2u) % cell_w;
+  uint b = (k - 2u) / cell_w;
+  if (checked && !svo_lum_cell_needed(f, a, b, pl, on_s, o)) return uintBitsToFloat(0x7FC00000u);
+  float cell_width = f.spacing * pl.z / (pl.z + f.delta);
+  if (o.visibility == SVO_LUM_VIS_CELLS) {
+    return svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, f.extent.x / float(f.w)));
+  }
+  return svo_lum_visible(p, svo_lum_cell_seen(f, a, b, pl), cell_width);
+}
+
+// Image m's share of a point's samples (svo_luminaire_shade): its box
+// (texel coordinates; the whole image for global sampling) and K_m(p), 0
+// for an image that sends the point nothing, and for m past the last.
+struct SvoLumShare {
+  uint m;
+  uint img;
+  vec4 box;
+  uint km;
+};
+
+// What every image's share depends on at a point: where it is in S's frame,
+// whether it is on S (and where: texel coordinates), and the balance of
+// Eq. 12 (A(p), and the images whose box is not empty).
+struct SvoLumAt {
+  vec3 pl;
+  bool on_s;
+  vec2 t_on_s;
+  float area_total;
+  uint nonempty;
+};
+
+SVO_FN SvoLumShare svo_lum_share(SvoLumInfo f, uint m, SvoLumAt at, SvoLumOptions o) {
+  SvoLumShare r;
+  r.m = m;
+  r.img = svo_lum_image(f, min(m, f.grid_w * f.grid_h - 1u));
+  r.box = vec4(0.0f, 0.0f, float(f.w), float(f.h));
+  r.km = 0u;
+  uint count = f.grid_w * f.grid_h;
+  if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
+    // The image is drawn per sample.
+    if (m == 0u) r.km = o.k;
+    return r;
+  }
+  if (m >= count) return r;
+  if (at.on_s) {
+    // Eq. 9: the same share for every image that is lit at the point.
+    vec3 c = svo_lum_texel_colour(f, r.img, at.t_on_s);
+    if (!(c.x + c.y + c.z > 0.0f)) return r;
+    r.km = max((o.k + count - 1u) / count, 1u);
+  } else {
+    r.box = svo_lum_box(f, m, at.pl);
+    if (!(r.box.z > r.box.x) || !(r.box.w > r.box.y)) return r;
+    if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX) {
+      float am = svo_lum_area(f, r.img, r.box);
+      if (!(am > 0.0f)) return r;
+      // Eq. 12, at least one sample for an image that sends light (an image
+      // of no sample would drop its share: a bias).
+      r.km = max(uint(am / at.area_total * float(o.k) + 0.5f), 1u);
+    } else {
+      r.km = max((o.k + at.nonempty - 1u) / at.nonempty, 1u);
+    }
+  }
+  if (o.kmax > 0u) r.km = min(r.km, o.kmax);
+  return r;
+}
+
 // The radiance the G-buffer point reflects towards the eye from luminaire
 // l (Eq. 14, summed over the images), with o's sampler, search, sequence
 // and visibility.
 // Only samples [first, first + chunk) of the point's sequence count (a host
 // may split them over several calls, forward.glsl's svo_forward_texel says
-// why); each is weighted as in the whole estimate.
+// why); each is weighted as in the whole estimate. The images' samples
+// follow each other in one sequence, and one loop runs over the sample
+// index, so that the lanes of a SIMD group shade their samples together
+// while each walks its own images (a loop over images with a loop over
+// their samples inside runs every lane's samples apart).
 SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uint l, SvoLumOptions o, uint first,
                                 uint chunk) {
+  if (chunk == 0u) return vec3(0.0f);
   SvoLumInfo f = svo_lum_info(l);
-  vec3 pl = svo_lum_local(f, p.position);
+  SvoLumAt at;
+  at.pl = svo_lum_local(f, p.position);
   float eps = 1.0e-5f * f.delta;
-  if (pl.z < -eps) return vec3(0.0f);  // behind S: the luminaire sends nothing there
+  if (at.pl.z < -eps) return vec3(0.0f);  // behind S: the luminaire sends nothing there
   uint count = f.grid_w * f.grid_h;
   uint cell_w = f.grid_w + f.n - 1u;
-  uint cell_count = cell_w * (f.grid_h + f.n - 1u);
-  // The visibility of each cell, computed when an image first needs it.
-  float cellv[SVO_LUM_MAX_CELLS];
-  for (uint c = 0u; c < min(cell_count, SVO_LUM_MAX_CELLS); ++c) cellv[c] = -1.0f;
-  float cell_width = f.spacing * pl.z / (pl.z + f.delta);
   bool by_cell = o.visibility == SVO_LUM_VIS_CELLS || o.visibility == SVO_LUM_VIS_CELLS_ON_U;
-  float texel_width = f.extent.x / float(f.w);
-  vec3 total = vec3(0.0f);
-  uint sample_index = 0u;
-
-  // Global sampling draws the image per sample; the others loop over images.
-  uint passes = o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL ? 1u : count;
-  // The balance of Eq. 12: A(p) over the images, and (uniform) the images
-  // whose box is not empty.
-  float area_total = 0.0f;
-  uint nonempty = 0u;
-  bool on_s = pl.z <= eps;
-  // The restricted samplers balance the images by A_m (Eq. 12).
-  bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
-  if (!on_s && o.sampler_kind != SVO_LUM_SAMPLER_GLOBAL) {
-    for (uint m = 0u; m < count; ++m) {
-      vec4 box = svo_lum_box(f, m, pl);
-      if (box.z > box.x && box.w > box.y) ++nonempty;
-      if (balanced) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
-    }
-    if (balanced && !(area_total > 0.0f)) return vec3(0.0f);
-    if (nonempty == 0u) return vec3(0.0f);
+  bool global = o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL;
+  at.on_s = at.pl.z <= eps;
+  at.t_on_s = svo_lum_to_texel(f, vec2(at.pl));
+  at.area_total = 0.0f;
+  at.nonempty = 0u;
+  if (!at.on_s && !global) {
+    at.area_total = svo_lum_state(pixel, f.state);
+    at.nonempty = uint(svo_lum_state(pixel, f.state + 1u));
+    // The restricted samplers balance the images by A_m (Eq. 12).
+    bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
+    if (balanced && !(at.area_total > 0.0f)) return vec3(0.0f);
+    if (at.nonempty == 0u) return vec3(0.0f);
   }
-  vec2 t_on_s = svo_lum_to_texel(f, vec2(pl));
-  if (on_s && !(t_on_s.x >= 0.0f && t_on_s.y >= 0.0f && t_on_s.x < float(f.w) && t_on_s.y < float(f.h)))
-    return vec3(0.0f);
+  vec2 t = at.t_on_s;
+  if (at.on_s && !(t.x >= 0.0f && t.y >= 0.0f && t.x < float(f.w) && t.y < float(f.h))) return vec3(0.0f);
+  float texel_width = f.extent.x / float(f.w);
+  float half_support = 0.5f * float(f.n) * f.spacing;
 
-  for (uint pass = 0u; pass < passes; ++pass) {
-    uint m = pass;
-    uint img = svo_lum_image(f, m);
-    vec4 box = vec4(0.0f, 0.0f, float(f.w), float(f.h));
-    uint km = o.k;
-    if (o.sampler_kind != SVO_LUM_SAMPLER_GLOBAL) {
-      if (on_s) {
-        // Eq. 9: the same share for every image that is lit at the point.
-        vec3 c = svo_lum_texel_colour(f, img, t_on_s);
-        if (!(c.x + c.y + c.z > 0.0f)) continue;
-        km = max((o.k + count - 1u) / count, 1u);
-      } else {
-        box = svo_lum_box(f, m, pl);
-        if (!(box.z > box.x) || !(box.w > box.y)) continue;
-        if (balanced) {
-          float am = svo_lum_area(f, img, box);
-          if (!(am > 0.0f)) continue;
-          // Eq. 12, at least one sample for an image that sends light (an
-          // image of no sample would drop its share: a bias).
-          km = max(uint(am / area_total * float(o.k) + 0.5f), 1u);
-        } else {
-          km = max((o.k + nonempty - 1u) / nonempty, 1u);
-        }
-      }
-      if (o.kmax > 0u) km = min(km, o.kmax);
+  vec3 total = vec3(0.0f);
+  SvoLumShare share = svo_lum_share(f, 0u, at, o);
+  uint start = 0u;  // the index of the share's first sample
+  uint passes = global ? 1u : count;
+  float vis_m = 1.0f;
+  bool vis_known = false;
+  for (uint i = first; i - first < chunk; ++i) {
+    while (share.m < passes && i - start >= share.km) {
+      start += share.km;
+      share = svo_lum_share(f, share.m + 1u, at, o);
+      vis_known = false;
     }
-    vec3 sum = vec3(0.0f);
-    float vis_m = 1.0f;
-    bool vis_known = false;
-    for (uint k = 0u; k < km; ++k) {
-      uint i = sample_index++;
-      if (i < first || i - first >= chunk) continue;
-      vec2 u = svo_lum_rand(pixel, i, 0u, o.sequence, o.seed);
-      if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
-        // The image by its share of the energy (the CDF over images,
-        // inverted: its integer part the image, the rest reused), then the
-        // whole image.
-        float x = svo_lum_invert(f, svo_lum_table_cdf(f.image_cdf), count, 0u, count, u.x, SVO_LUM_SEARCH_BINARY, 0u);
-        m = min(uint(x), count - 1u);
-        u.x = clamp(x - float(m), 0.0f, 0.99999994f);
-        img = svo_lum_image(f, m);
-        vis_known = false;
-      }
-      SvoLobe lobe = svo_lum_lobe(p, g, pixel, i, o);
-      vec3 q;        // the light's point
-      vec3 c;        // C_m there
-      float weight;  // Psi_m x the solid angle's Jacobian / the density
-      if (on_s) {
-        // Eq. 9: u uniform over the support of Phi_m.
-        float half_support = 0.5f * float(f.n) * f.spacing;
-        vec2 uu = svo_lum_basis_centre(f, m) + (2.0f * u - 1.0f) * half_support;
-        q = svo_lum_on_u(f, uu);
-        float r = length(q - p.position);
-        c = svo_lum_texel_colour(f, img, t_on_s);
-        weight = svo_lum_basis(f, m, uu) * (f.delta + pl.z) / (r * r * r) * (4.0f * half_support * half_support);
-      } else {
-        vec3 s;
-        if (o.sampler_kind == SVO_LUM_SAMPLER_UNIFORM) {
-          s = vec3(mix(vec2(box), vec2(box.z, box.w), u), 1.0f / ((box.z - box.x) * (box.w - box.y)));
-        } else {
-          s = svo_lum_sample_box(f, img, box, u, o.search, o.depth, o.sampler_kind == SVO_LUM_SAMPLER_BOX);
-        }
-        if (!(s.z > 0.0f)) continue;
-        vec2 sl = svo_lum_from_texel(f, vec2(s));
-        vec2 uu = vec2(pl) + (sl - vec2(pl)) * ((pl.z + f.delta) / pl.z);
-        float phi = svo_lum_basis(f, m, uu);
-        if (!(phi > 0.0f)) continue;
-        q = svo_lum_on_s(f, vec2(s));
-        float r = length(q - p.position);
-        c = svo_lum_texel_colour(f, img, vec2(s));
-        // Delta / r^3 ds is the solid angle; the density per unit area of S
-        // is the density per texel over the texel's area.
-        weight = phi * pl.z / (r * r * r) * (f.texel_area / s.z);
-        if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
-          float share = svo_lum_table(f.image_cdf + m + 1u) - svo_lum_table(f.image_cdf + m);
-          weight /= share;
-        }
-      }
-      vec3 contribution = c * weight * svo_lum_brdf(p, lobe, q);
-      if (!(contribution.x + contribution.y + contribution.z > 0.0f)) continue;
-      if (o.visibility == SVO_LUM_VIS_SAMPLES) {
-        contribution *= svo_lum_visible(p, q, texel_width);
-      } else if (by_cell && !vis_known) {
-        // v_m: the mean over the n x n cells under Phi_m's support of one
-        // cone each towards the cell's reference position (section 6.2), or
-        // along the line to the cell on U (cells-on-u).
-        uint ci = m % f.grid_w;
-        uint cj = m / f.grid_w;
-        float v = 0.0f;
-        for (uint b = cj; b < cj + f.n; ++b) {
-          for (uint a = ci; a < ci + f.n; ++a) {
-            uint cell = b * cell_w + a;
-            float cv = cell < SVO_LUM_MAX_CELLS ? cellv[cell] : -1.0f;
-            if (cv < 0.0f) {
-              cv = o.visibility == SVO_LUM_VIS_CELLS
-                       ? svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, texel_width))
-                       : svo_lum_visible(p, svo_lum_cell_seen(f, a, b, pl), cell_width);
-              if (cell < SVO_LUM_MAX_CELLS) cellv[cell] = cv;
-            }
-            v += cv;
-          }
-        }
-        vis_m = v / float(f.n * f.n);
-        vis_known = true;
-      }
-      sum += contribution * (by_cell ? vis_m : 1.0f);
+    if (share.m >= passes) break;
+    uint m = share.m;
+    uint img = share.img;
+    vec2 u = svo_lum_rand(pixel, i, 0u, o.sequence, o.seed);
+    if (global) {
+      // The image by its share of the energy (the CDF over images,
+      // inverted: its integer part the image, the rest reused), then the
+      // whole image.
+      float x = svo_lum_invert(f, svo_lum_table_cdf(f.image_cdf), count, 0u, count, u.x, SVO_LUM_SEARCH_BINARY, 0u);
+      m = min(uint(x), count - 1u);
+      u.x = clamp(x - float(m), 0.0f, 0.99999994f);
+      img = svo_lum_image(f, m);
+      vis_known = false;
     }
-    total += sum / float(km);
+    SvoLobe lobe = svo_lum_lobe(p, g, pixel, i, o);
+    vec3 q;        // the light's point
+    vec3 c;        // C_m there
+    float weight;  // Psi_m x the solid angle's Jacobian / the density
+    if (at.on_s) {
+      // Eq. 9: u uniform over the support of Phi_m.
+      vec2 uu = svo_lum_basis_centre(f, m) + (2.0f * u - 1.0f) * half_support;
+      q = svo_lum_on_u(f, uu);
+      float r = length(q - p.position);
+      c = svo_lum_texel_colour(f, img, at.t_on_s);
+      weight = svo_lum_basis(f, m, uu) * (f.delta + at.pl.z) / (r * r * r) * (4.0f * half_support * half_support);
+    } else {
+      vec4 box = share.box;
+      vec3 s;
+      if (o.sampler_kind == SVO_LUM_SAMPLER_UNIFORM) {
+        s = vec3(mix(vec2(box), vec2(box.z, box.w), u), 1.0f / ((box.z - box.x) * (box.w - box.y)));
+      } else {
+        s = svo_lum_sample_box(f, img, box, u, o.search, o.depth, o.sampler_kind == SVO_LUM_SAMPLER_BOX);
+      }
+      if (!(s.z > 0.0f)) continue;
+      vec2 sl = svo_lum_from_texel(f, vec2(s));
+      vec2 uu = vec2(at.pl) + (sl - vec2(at.pl)) * ((at.pl.z + f.delta) / at.pl.z);
+      float phi = svo_lum_basis(f, m, uu);
+      if (!(phi > 0.0f)) continue;
+      q = svo_lum_on_s(f, vec2(s));
+      float r = length(q - p.position);
+      c = svo_lum_texel_colour(f, img, vec2(s));
+      // Delta / r^3 ds is the solid angle; the density per unit area of S
+      // is the density per texel over the texel's area.
+      weight = phi * at.pl.z / (r * r * r) * (f.texel_area / s.z);
+      if (global) {
+        float p_m = svo_lum_table(f.image_cdf + m + 1u) - svo_lum_table(f.image_cdf + m);
+        weight /= p_m;
+      }
+    }
+    vec3 contribution = c * weight * svo_lum_brdf(p, lobe, q);
+    if (!(contribution.x + contribution.y + contribution.z > 0.0f)) continue;
+    if (o.visibility == SVO_LUM_VIS_SAMPLES) {
+      contribution *= svo_lum_visible(p, q, texel_width);
+    } else if (by_cell && !vis_known) {
+      // v_m: the mean of the cells' v (the state) under Phi_m's support.
+      uint ci = m % f.grid_w;
+      uint cj = m / f.grid_w;
+      float v = 0.0f;
+      for (uint b = cj; b < cj + f.n; ++b) {
+        for (uint a = ci; a < ci + f.n; ++a) v += svo_lum_state(pixel, f.state + 2u + b * cell_w + a);
+      }
+      vis_m = v / float(f.n * f.n);
+      vis_known = true;
+    }
+    total += contribution * ((by_cell ? vis_m : 1.0f) / float(share.km));
   }
   return total;
 }

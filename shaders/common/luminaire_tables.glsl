@@ -22,8 +22,6 @@ SVO_CONST uint SVO_LUM_SEQ_HALTON = 0u;
 SVO_CONST uint SVO_LUM_SEQ_RANDOM = 1u;
 SVO_CONST uint SVO_LUM_HEADER = 8u;
 SVO_CONST uint SVO_LUM_BLOCK = 32u;
-// The most cells whose visibility a point keeps: a 16 x 16 grid of B-splines.
-SVO_CONST uint SVO_LUM_MAX_CELLS = 324u;
 
 SVO_FN uint svo_lum_uint(uint i) { return floatBitsToUint(svo_lum_table(i)); }
 SVO_FN vec3 svo_lum_vec3(uint i) { return vec3(svo_lum_table(i), svo_lum_table(i + 1u), svo_lum_table(i + 2u)); }
@@ -47,7 +45,8 @@ struct SvoLumInfo {
   uint cells;
   float energy;
   uint image_cdf;
-  uint n;  // cells of a basis's support per axis
+  uint n;      // cells of a basis's support per axis
+  uint state;  // the offset of its entries in a pixel's state (luminaire.glsl)
 };
 
 SVO_FN SvoLumInfo svo_lum_info(uint l) {
@@ -72,6 +71,7 @@ SVO_FN SvoLumInfo svo_lum_info(uint l) {
   f.energy = svo_lum_table(o + 25u);
   f.image_cdf = svo_lum_uint(o + 26u);
   f.n = svo_lum_uint(o + 27u);
+  f.state = svo_lum_uint(o + 28u);
   return f;
 }
 

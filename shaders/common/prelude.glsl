@@ -3,7 +3,14 @@
 //  - functions are declared SVO_FN, constants SVO_CONST (static in C++, so
 //    that a host may include a file inside a struct, as the tracer's hosts do);
 //  - float literals carry the f suffix (C++ would otherwise compute in double);
-//  - no arrays, no out parameters: return a struct filled field by field;
+//  - no arrays, no out parameters: return a struct filled field by field
+//    (lavapipe keeps a private array in memory: eight normals in one made
+//    the trace kernel 2.1x slower there; tests/shaders/check_dialect.cmake
+//    fails on any);
+//  - work that only some lanes need goes outside loops whose trip counts
+//    differ between lanes: lavapipe runs a SIMD group's loop body, with all
+//    its work, while any lane is in it (tracer.glsl's while-while march,
+//    luminaire.glsl's one loop over samples);
 //  - a function that updates a large struct in place takes it as SVO_INOUT(T)
 //    (GLSL inout, C++ a reference), so that C++ does not copy it in and out;
 //    a large struct only read takes SVO_IN(T) (GLSL in, C++ a const
