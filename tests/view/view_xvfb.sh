@@ -35,14 +35,24 @@ if command -v xdotool >/dev/null 2>&1; then
     "$SVO" view "$OCTREE" --width 200 --height 150 --scale 0.5 --validate --screenshot "$SHOT" &
     pid=$!
     window=$(timeout 60 xdotool search --sync --name "^svo view .*prefiltered") || { echo "no window"; kill $pid; exit 1; }
-    xdotool key --window "$window" 3
+    # A key sent while the window is mapped but before it reads input is
+    # lost (seen once on a loaded machine), so each key is sent again every
+    # 2 s until it has acted: 3 selects alpha mode however often it comes.
     tries=0
     until xdotool getwindowname "$window" | grep -q "| alpha |"; do
+      [ $((tries % 20)) -eq 0 ] && xdotool key --window "$window" 3
       tries=$((tries + 1))
       [ $tries -lt 600 ] || { echo "key 3 did not switch to alpha: $(xdotool getwindowname "$window")"; kill $pid; exit 1; }
       sleep 0.1
     done
-    xdotool key --window "$window" q
+    tries=0
+    # Running: a process that is neither gone nor a zombie awaiting wait.
+    while ps -o stat= -p $pid 2>/dev/null | grep -qv Z; do
+      [ $((tries % 20)) -eq 0 ] && xdotool key --window "$window" q 2>/dev/null
+      tries=$((tries + 1))
+      [ $tries -lt 600 ] || { echo "Q did not quit svo view"; kill $pid; exit 1; }
+      sleep 0.1
+    done
     wait $pid
     status=$?
     [ $status -eq 0 ] || { echo "svo view exited with $status after Q"; exit 1; }
