@@ -11,7 +11,9 @@
 // stored as the bits of a uint (svo_lum_uint). Layout:
 //   0: the luminaire count; 1: sampler (SVO_LUM_SAMPLER_*); 2: search
 //   (SVO_LUM_SEARCH_*) | depth << 8; 3: visibility | sequence << 8; 4: K, the
-//   samples per pixel of each luminaire; 5: K_max (0: none); 6: seed.
+//   samples per pixel of each luminaire; 5: K_max (0: none); 6: seed; 7:
+//   the entries of a pixel's state (below), the sum over luminaires of 2 +
+//   (with cell visibility) its cells.
 //   8 + 32 l: luminaire l (svo_lum_info): plane S's centre, delta, its x
 //   axis, the basis spacing h, its y axis, the basis kind, its z axis (the
 //   direction light leaves in), the texel area, S's extent, the image size
@@ -20,18 +22,6 @@
 //   of the CDF over images by energy (global sampling), the basis
 //   support in cells n, and (28) the offset of its entries in a pixel's
 //   state. All lengths in scene units.
-//   7: the entries of a pixel's state (svo_luminaire_state), the sum over
-//   luminaires of 2 + (with cell visibility) its cells.
-//
-// The pixel's state, per luminaire at its offset: A(p), the sum of A_m over
-// the images (Eq. 12); the count of images whose box is not empty; with
-// cell visibility, every cell's v (section 6.2), row by row. A host makes
-// each entry by svo_luminaire_state, one entry per call, and gives it back
-// by `float svo_lum_state(uint pixel, uint k)`: the Vulkan host makes every
-// entry of a pixel before its samples, the native one an entry when it is
-// first read. The cells' cones then run once per pixel, not per image or
-// per batch of samples, and no invocation keeps them in an array
-// (prelude.glsl's rule: lavapipe holds private arrays in memory).
 //   Image m at offset + m stride (texel coordinates: x in [0, w], y in [0, h]):
 //     the marginal CDF over columns, w + 1 floats (0 ... 1);
 //     each column's CDF over rows, w x (h + 1);
@@ -43,6 +33,16 @@
 //   Cells at the cells' offset: (W + n - 1) x (H + n - 1) reference
 //   positions on S (texel coordinates, 2 floats each): the mean of the
 //   half-way points of the images whose basis overlaps the cell.
+//
+// The pixel's state, per luminaire at its offset: A(p), the sum of A_m over
+// the images (Eq. 12); the count of images whose box is not empty; with
+// cell visibility, every cell's v (section 6.2), row by row. A host makes
+// each entry by svo_luminaire_state, one entry per call, and gives it back
+// by `float svo_lum_state(uint pixel, uint k)`: the Vulkan host makes every
+// entry of a pixel before its samples, the native one an entry when it is
+// first read. The cells' cones then run once per pixel, not per image or
+// per batch of samples, and no invocation keeps them in an array
+// (prelude.glsl's rule: lavapipe holds private arrays in memory).
 #ifndef SVO_LUMINAIRE_GLSL
 #define SVO_LUMINAIRE_GLSL
 #include "forward.glsl"
