@@ -81,7 +81,8 @@ struct LuminairePass::Cache {
   }
 };
 
-LuminairePass::LuminairePass(bool over_colour) : over_(over_colour), cache_(std::make_unique<Cache>()) {}
+LuminairePass::LuminairePass(bool over_colour, uint64_t state_band_bytes)
+    : over_(over_colour), band_bytes_(state_band_bytes), cache_(std::make_unique<Cache>()) {}
 LuminairePass::~LuminairePass() = default;
 
 std::vector<ImageDesc> LuminairePass::reads() const {
@@ -108,13 +109,12 @@ double LuminairePass::run(PassContext& ctx) {
   if (ctx.host == Host::Vulkan && quadrature > 0) {
     throw std::invalid_argument("the luminaire pass's quadrature runs on the native host only");
   }
-  // The pixels' state is made band by band, a band at most kStateBytes.
+  // The pixels' state is made band by band, a band at most band_bytes_.
   uint32_t stride = 0;
   std::memcpy(&stride, &lum[7], sizeof stride);
   stride = std::max(stride, 1u);
-  constexpr uint64_t kStateBytes = uint64_t(64) << 20;
   const uint32_t band = uint32_t(std::min<uint64_t>(
-      std::max<uint64_t>(64, kStateBytes / (sizeof(float) * stride) / 64 * 64), (uint64_t(count) + 63) / 64 * 64));
+      std::max<uint64_t>(64, band_bytes_ / (sizeof(float) * stride) / 64 * 64), (uint64_t(count) + 63) / 64 * 64));
   if (ctx.host == Host::Vulkan) {
     if (!c.kernel) {
       const auto spirv = octree.pick_kernel(svo_spv_luminaire_single_comp, svo_spv_luminaire_address_comp,

@@ -393,6 +393,28 @@ TEST_F(LuminaireOnBothHosts, APointNoImageReachesGetsNoLight) {
   }
 }
 
+// The pixels' state made in bands of 64 pixels (the 24 x 20 frame in 8, the
+// last one short) gives the image of one band, bit for bit, on each host.
+TEST_F(LuminaireOnBothHosts, StateInBandsGivesTheSameImage) {
+  std::vector<std::unique_ptr<Renderer>> banded;
+  banded.push_back(std::make_unique<NativeRenderer>(*tree_));
+  banded.push_back(std::make_unique<GpuRenderer>(*context_, *tree_));
+  for (auto& r : banded) r->add_pass(std::make_unique<LuminairePass>(false, 1));
+  RenderSettings s = settings(LuminaireSampler::Restricted, 32, 3);
+  s.luminaire.visibility = LuminaireVisibility::CellsOnU;
+  for (size_t h = 0; h < banded.size(); ++h) {
+    const Frame whole = renderers_[h]->render(s);
+    const Frame bands = banded[h]->render(s);
+    ASSERT_EQ(whole.colour.size(), bands.colour.size());
+    uint32_t lit = 0;
+    for (size_t i = 0; i < whole.colour.size(); ++i) {
+      lit += whole.colour[i].g > 0 ? 1 : 0;
+      ASSERT_EQ(whole.colour[i], bands.colour[i]) << host_name(banded[h]->host()) << " pixel " << i;
+    }
+    EXPECT_GT(lit, 100u) << host_name(banded[h]->host());
+  }
+}
+
 TEST_F(LuminaireOnBothHosts, BothHostsAgree) {
   for (LuminaireVisibility v : {LuminaireVisibility::None, LuminaireVisibility::Cells, LuminaireVisibility::CellsOnU}) {
     RenderSettings s = settings(LuminaireSampler::Restricted, 64, 5);

@@ -106,7 +106,10 @@ class LobeFilterPass : public Pass {
 // the ambient term and the luminaires' light).
 class LuminairePass : public Pass {
  public:
-  explicit LuminairePass(bool over_colour = false);
+  // The pixels' state (luminaire.glsl: A(p), the cells' visibility) is
+  // made in bands of at most state_band_bytes (at least 64 pixels each).
+  static constexpr uint64_t kStateBandBytes = uint64_t(64) << 20;
+  explicit LuminairePass(bool over_colour = false, uint64_t state_band_bytes = kStateBandBytes);
   ~LuminairePass() override;
   std::string name() const override { return "luminaire"; }
   std::vector<ImageDesc> reads() const override;
@@ -115,6 +118,7 @@ class LuminairePass : public Pass {
 
  private:
   bool over_;
+  uint64_t band_bytes_;
   struct Cache;
   std::unique_ptr<Cache> cache_;  // the shading and luminaire tables, and the Vulkan kernel and buffers
 };
