@@ -20,25 +20,22 @@ namespace svo::math {
 
 struct NativeLuminaire : render::NativeOctreeReader, render::NativeShadingReader {
   const float* lum_tables = nullptr;
-  // The G-buffer, and the state of pixels [state_begin, ...),
-  // state_stride entries each, made on demand: an entry is made when first
-  // read (kUnmade until then), so that the native host traces only the
-  // cells' cones that a sample reads, as the Vulkan host, which makes
-  // every entry first, cannot.
+  // The state of pixels [state_begin, ...), state_stride entries each,
+  // made on demand: an entry is made when first read (kUnmade until then),
+  // so that the native host traces only the cells' cones that a sample
+  // reads, as the Vulkan host, which makes every entry first, cannot.
   static constexpr uint32_t kUnmade = 0xFFFFFFFFu;
-  const glm::vec4* gbuffer = nullptr;
   float* state = nullptr;
   uint32_t state_begin = 0;
   uint32_t state_stride = 0;
   float svo_lum_table(uint32_t i) const { return lum_tables[i]; }
-  float svo_lum_state(uint32_t pixel, uint32_t k) {
+#include "common/luminaire.glsl"
+  // (After the GLSL, whose SvoShadingPoint it takes.)
+  float svo_lum_state(uint32_t pixel, uint32_t k, const SvoShadingPoint& p) {
     float& v = state[size_t(pixel - state_begin) * state_stride + k];
-    if (floatBitsToUint(v) == kUnmade) {
-      v = svo_luminaire_state(render::gbuffer_at(gbuffer + render::kGBufferVec4s * pixel), k, false);
-    }
+    if (floatBitsToUint(v) == kUnmade) v = svo_lum_state_entry(p, k, false);
     return v;
   }
-#include "common/luminaire.glsl"
 };
 
 }  // namespace svo::math
@@ -180,7 +177,6 @@ double LuminairePass::run(PassContext& ctx) {
     });
   } else {
     c.state.resize(size_t(band) * stride);
-    kernel.gbuffer = g;
     kernel.state = c.state.data();
     kernel.state_stride = stride;
     for (uint32_t begin = 0; begin < count; begin += band) {

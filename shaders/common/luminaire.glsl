@@ -38,9 +38,10 @@
 // the images (Eq. 12); the count of images whose box is not empty; with
 // cell visibility, every cell's v (section 6.2), row by row. A host makes
 // each entry by svo_luminaire_state, one entry per call, and gives it back
-// by `float svo_lum_state(uint pixel, uint k)`: the Vulkan host makes every
-// entry of a pixel before its samples, the native one an entry when it is
-// first read. The cells' cones then run once per pixel, not per image or
+// by `float svo_lum_state(uint pixel, uint k, SVO_IN(SvoShadingPoint) p)`
+// (p: the pixel's shading point): the Vulkan host makes every entry of a
+// pixel before its samples, the native one an entry when it is first read,
+// from p. The cells' cones then run once per pixel, not per image or
 // per batch of samples, and no invocation keeps them in an array
 // (prelude.glsl's rule: lavapipe holds private arrays in memory).
 #ifndef SVO_LUMINAIRE_GLSL
@@ -166,18 +167,17 @@ SVO_FN bool svo_lum_cell_needed(SvoLumInfo f, uint a, uint b, vec3 pl, bool on_s
   return false;
 }
 
-// Entry k of the pixel's state (the layout above; svo_lum_uint(7u) entries).
-// checked: a cell entry that no sample can read is a NaN, its cone not
-// traced (a host that makes every entry first); otherwise the cone is
-// traced (a host that makes an entry when a sample reads it).
-SVO_FN float svo_luminaire_state(SvoGBuffer g, uint k, bool checked) {
-  if (!(g.coverage > 0.0f)) return 0.0f;
+// Entry k of the state of the pixel whose shading point is p (the layout
+// above; svo_lum_uint(7u) entries). checked: a cell entry that no sample can
+// read is a NaN, its cone not traced (a host that makes every entry first);
+// otherwise the cone is traced (a host that makes an entry when a sample
+// reads it).
+SVO_FN float svo_lum_state_entry(SVO_IN(SvoShadingPoint) p, uint k, bool checked) {
   SvoLumOptions o = svo_lum_options();
   uint l = 0u;
   while (l + 1u < o.count && svo_lum_uint(SVO_LUM_HEADER + SVO_LUM_BLOCK * (l + 1u) + 28u) <= k) ++l;
   SvoLumInfo f = svo_lum_info(l);
   k -= f.state;
-  SvoShadingPoint p = svo_shading_point(g);
   vec3 pl = svo_lum_local(f, p.position);
   float eps = 1.0e-5f * f.delta;
   if (pl.z < -eps) return 0.0f;  // behind S
@@ -207,6 +207,12 @@ SVO_FN float svo_luminaire_state(SvoGBuffer g, uint k, bool checked) {
     return svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, f.extent.x / float(f.w)));
   }
   return svo_lum_visible(p, svo_lum_cell_seen(f, a, b, pl), cell_width);
+}
+
+// Entry k of the state of the pixel whose G-buffer texel is g.
+SVO_FN float svo_luminaire_state(SvoGBuffer g, uint k) {
+  if (!(g.coverage > 0.0f)) return 0.0f;
+  return svo_lum_state_entry(svo_shading_point(g), k, true);
 }
 
 // Image m's share of a point's samples (svo_luminaire_shade): its box
@@ -292,8 +298,8 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
   at.area_total = 0.0f;
   at.nonempty = 0u;
   if (!at.on_s && !global) {
-    at.area_total = svo_lum_state(pixel, f.state);
-    at.nonempty = uint(svo_lum_state(pixel, f.state + 1u));
+    at.area_total = svo_lum_state(pixel, f.state, p);
+    at.nonempty = uint(svo_lum_state(pixel, f.state + 1u, p));
     // The restricted samplers balance the images by A_m (Eq. 12).
     bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
     if (balanced && !(at.area_total > 0.0f)) return vec3(0.0f);
@@ -375,7 +381,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
       uint cj = m / f.grid_w;
       float v = 0.0f;
       for (uint b = cj; b < cj + f.n; ++b) {
-        for (uint a = ci; a < ci + f.n; ++a) v += svo_lum_state(pixel, f.state + 2u + b * cell_w + a);
+        for (uint a = ci; a < ci + f.n; ++a) v += svo_lum_state(pixel, f.state + 2u + b * cell_w + a, p);
       }
       vis_m = v / float(f.n * f.n);
       vis_known = true;

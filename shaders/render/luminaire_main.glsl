@@ -31,7 +31,8 @@ layout(std430, set = 0, binding = 5) readonly restrict buffer LumTables { float 
 layout(std430, set = 0, binding = 6) restrict buffer LumState { float lum_state[]; };
 float svo_table(uint i) { return tables[i]; }
 float svo_lum_table(uint i) { return lum_tables[i]; }
-float svo_lum_state(uint pixel, uint k) { return lum_state[(pixel - push.band) * push.stride + k]; }
+#include "common/forward.glsl"
+float svo_lum_state(uint pixel, uint k, in SvoShadingPoint p) { return lum_state[(pixel - push.band) * push.stride + k]; }
 #include "common/luminaire.glsl"
 
 void main() {
@@ -40,7 +41,7 @@ void main() {
   SvoGBuffer g = SVO_GBUFFER_LOAD(gbuffer_in, i);
   if (push.state != 0u) {
     lum_state[gl_GlobalInvocationID.x * push.stride + gl_GlobalInvocationID.y] =
-        svo_luminaire_state(g, gl_GlobalInvocationID.y, true);
+        svo_luminaire_state(g, gl_GlobalInvocationID.y);
     return;
   }
   bool first_call = push.first == 0u && push.over == 0u;
