@@ -90,6 +90,7 @@ struct SvoLumOptions {
   uint k;
   uint kmax;
   uint seed;
+  bool balanced;  // the restricted samplers, which balance the images by A_m (Eq. 12)
 };
 
 SVO_FN SvoLumOptions svo_lum_options() {
@@ -105,6 +106,7 @@ SVO_FN SvoLumOptions svo_lum_options() {
   o.k = max(svo_lum_uint(4u), 1u);
   o.kmax = svo_lum_uint(5u);
   o.seed = svo_lum_uint(6u);
+  o.balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
   return o;
 }
 
@@ -138,30 +140,56 @@ SVO_FN SvoLobe svo_lum_lobe(SvoShadingPoint p, SvoGBuffer g, uint pixel, uint i,
   return svo_sample_lobe(p, mat, svo_lum_rand(pixel, i, 2u, o.sequence, o.seed));
 }
 
+// What every image's share depends on at a point: where it is in S's frame,
+// whether it is on S (and where: texel coordinates), and the balance of
+// Eq. 12 (A(p), and the images whose box is not empty).
+struct SvoLumAt {
+  vec3 pl;
+  bool on_s;
+  vec2 t_on_s;
+  float area_total;
+  uint nonempty;
+};
+
+// Image m (its tables at img) at the point, for sampling restricted to its
+// box: the box (texel coordinates; on S the whole image) and what it sends
+// the point, > 0 where it draws samples: A_m for the balanced samplers, 1
+// where the box is not empty for uniform sampling, and on S (Eq. 9) 1
+// where the image is lit at the point.
+struct SvoLumReach {
+  vec4 box;
+  float amount;
+};
+
+SVO_FN SvoLumReach svo_lum_reach(SvoLumInfo f, uint m, uint img, SvoLumAt at, SvoLumOptions o) {
+  SvoLumReach r;
+  r.box = vec4(0.0f, 0.0f, float(f.w), float(f.h));
+  r.amount = 0.0f;
+  if (at.on_s) {
+    vec3 c = svo_lum_texel_colour(f, img, at.t_on_s);
+    r.amount = c.x + c.y + c.z > 0.0f ? 1.0f : 0.0f;
+    return r;
+  }
+  r.box = svo_lum_box(f, m, at.pl);
+  if (!(r.box.z > r.box.x) || !(r.box.w > r.box.y)) return r;
+  r.amount = o.balanced ? svo_lum_area(f, img, r.box) : 1.0f;
+  return r;
+}
+
 // Whether some image whose basis covers cell (a, b) draws samples at the
-// point (at `pl` in S's frame) in svo_luminaire_shade: its box is not empty
-// and, for the balanced samplers, holds light; on S (Eq. 9), it is lit at
-// the point. Global sampling may draw any image. A cell no image needs is
-// never read, so its cone is not traced: its entry is a NaN, so that a
-// change that reads it after all shows at once (the visibility tests).
-SVO_FN bool svo_lum_cell_needed(SvoLumInfo f, uint a, uint b, vec3 pl, bool on_s, SvoLumOptions o) {
+// point in svo_luminaire_shade (svo_lum_reach; global sampling may draw
+// any image). A cell no image needs is never read, so its cone is not
+// traced: its entry is a NaN, so that a change that reads it after all
+// shows at once (the visibility tests).
+SVO_FN bool svo_lum_cell_needed(SvoLumInfo f, uint a, uint b, SvoLumAt at, SvoLumOptions o) {
   if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) return true;
-  bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
-  vec2 t = svo_lum_to_texel(f, vec2(pl));
-  if (on_s && !(t.x >= 0.0f && t.y >= 0.0f && t.x < float(f.w) && t.y < float(f.h))) return false;
+  vec2 t = at.t_on_s;
+  if (at.on_s && !(t.x >= 0.0f && t.y >= 0.0f && t.x < float(f.w) && t.y < float(f.h))) return false;
   // Image (i, j)'s basis covers cells [i, i + n) x [j, j + n).
   for (uint j = b + 1u > f.n ? b + 1u - f.n : 0u; j <= min(b, f.grid_h - 1u); ++j) {
     for (uint i = a + 1u > f.n ? a + 1u - f.n : 0u; i <= min(a, f.grid_w - 1u); ++i) {
       uint m = j * f.grid_w + i;
-      uint img = svo_lum_image(f, m);
-      if (on_s) {
-        vec3 c = svo_lum_texel_colour(f, img, t);
-        if (c.x + c.y + c.z > 0.0f) return true;
-        continue;
-      }
-      vec4 box = svo_lum_box(f, m, pl);
-      if (!(box.z > box.x) || !(box.w > box.y)) continue;
-      if (!balanced || svo_lum_area(f, img, box) > 0.0f) return true;
+      if (svo_lum_reach(f, m, svo_lum_image(f, m), at, o).amount > 0.0f) return true;
     }
   }
   return false;
@@ -186,13 +214,12 @@ SVO_FN float svo_lum_state_entry(SVO_IN(SvoShadingPoint) p, uint k, bool checked
     // A(p) and the images whose box is not empty, as svo_luminaire_shade
     // balances them (Eq. 12); neither is read on S or by global sampling.
     if (on_s || o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) return 0.0f;
-    bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
     float area_total = 0.0f;
     uint nonempty = 0u;
     for (uint m = 0u; m < f.grid_w * f.grid_h; ++m) {
       vec4 box = svo_lum_box(f, m, pl);
       if (box.z > box.x && box.w > box.y) ++nonempty;
-      if (balanced && k == 0u) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
+      if (o.balanced && k == 0u) area_total += svo_lum_area(f, svo_lum_image(f, m), box);
     }
     return k == 0u ? area_total : float(nonempty);
   }
@@ -201,7 +228,15 @@ SVO_FN float svo_lum_state_entry(SVO_IN(SvoShadingPoint) p, uint k, bool checked
   uint cell_w = f.grid_w + f.n - 1u;
   uint a = (k - 2u) % cell_w;
   uint b = (k - 2u) / cell_w;
-  if (checked && !svo_lum_cell_needed(f, a, b, pl, on_s, o)) return uintBitsToFloat(0x7FC00000u);
+  if (checked) {
+    SvoLumAt at;
+    at.pl = pl;
+    at.on_s = on_s;
+    at.t_on_s = svo_lum_to_texel(f, vec2(pl));
+    at.area_total = 0.0f;  // (not read)
+    at.nonempty = 0u;
+    if (!svo_lum_cell_needed(f, a, b, at, o)) return uintBitsToFloat(0x7FC00000u);
+  }
   float cell_width = f.spacing * pl.z / (pl.z + f.delta);
   if (o.visibility == SVO_LUM_VIS_CELLS) {
     return svo_lum_visible(p, svo_lum_cell_point(f, a, b), max(cell_width, f.extent.x / float(f.w)));
@@ -225,47 +260,31 @@ struct SvoLumShare {
   uint km;
 };
 
-// What every image's share depends on at a point: where it is in S's frame,
-// whether it is on S (and where: texel coordinates), and the balance of
-// Eq. 12 (A(p), and the images whose box is not empty).
-struct SvoLumAt {
-  vec3 pl;
-  bool on_s;
-  vec2 t_on_s;
-  float area_total;
-  uint nonempty;
-};
-
 SVO_FN SvoLumShare svo_lum_share(SvoLumInfo f, uint m, SvoLumAt at, SvoLumOptions o) {
   SvoLumShare r;
+  uint count = f.grid_w * f.grid_h;
   r.m = m;
-  r.img = svo_lum_image(f, min(m, f.grid_w * f.grid_h - 1u));
+  r.img = svo_lum_image(f, min(m, count - 1u));
   r.box = vec4(0.0f, 0.0f, float(f.w), float(f.h));
   r.km = 0u;
-  uint count = f.grid_w * f.grid_h;
   if (o.sampler_kind == SVO_LUM_SAMPLER_GLOBAL) {
     // The image is drawn per sample.
     if (m == 0u) r.km = o.k;
     return r;
   }
   if (m >= count) return r;
+  SvoLumReach reach = svo_lum_reach(f, m, r.img, at, o);
+  r.box = reach.box;
+  if (!(reach.amount > 0.0f)) return r;
   if (at.on_s) {
     // Eq. 9: the same share for every image that is lit at the point.
-    vec3 c = svo_lum_texel_colour(f, r.img, at.t_on_s);
-    if (!(c.x + c.y + c.z > 0.0f)) return r;
     r.km = max((o.k + count - 1u) / count, 1u);
+  } else if (o.balanced) {
+    // Eq. 12, at least one sample for an image that sends light (an image
+    // of no sample would drop its share: a bias).
+    r.km = max(uint(reach.amount / at.area_total * float(o.k) + 0.5f), 1u);
   } else {
-    r.box = svo_lum_box(f, m, at.pl);
-    if (!(r.box.z > r.box.x) || !(r.box.w > r.box.y)) return r;
-    if (o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX) {
-      float am = svo_lum_area(f, r.img, r.box);
-      if (!(am > 0.0f)) return r;
-      // Eq. 12, at least one sample for an image that sends light (an image
-      // of no sample would drop its share: a bias).
-      r.km = max(uint(am / at.area_total * float(o.k) + 0.5f), 1u);
-    } else {
-      r.km = max((o.k + at.nonempty - 1u) / at.nonempty, 1u);
-    }
+    r.km = max((o.k + at.nonempty - 1u) / at.nonempty, 1u);
   }
   if (o.kmax > 0u) r.km = min(r.km, o.kmax);
   return r;
@@ -300,9 +319,7 @@ SVO_FN vec3 svo_luminaire_shade(SvoGBuffer g, SvoShadingPoint p, uint pixel, uin
   if (!at.on_s && !global) {
     at.area_total = svo_lum_state(pixel, f.state, p);
     at.nonempty = uint(svo_lum_state(pixel, f.state + 1u, p));
-    // The restricted samplers balance the images by A_m (Eq. 12).
-    bool balanced = o.sampler_kind == SVO_LUM_SAMPLER_RESTRICTED || o.sampler_kind == SVO_LUM_SAMPLER_BOX;
-    if (balanced && !(at.area_total > 0.0f)) return vec3(0.0f);
+    if (o.balanced && !(at.area_total > 0.0f)) return vec3(0.0f);
     if (at.nonempty == 0u) return vec3(0.0f);
   }
   vec2 t = at.t_on_s;
