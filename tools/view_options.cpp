@@ -285,13 +285,15 @@ void add_luminaire_options(CLI::App& cmd, LuminaireArgs& o) {
       ->check(CLI::IsMember({"none", "cells", "samples", "cells-on-u"}))
       ->group("Luminaires");
   cmd.add_option("--search", o.search,
-                 "CDF inversion: secant (the paper's modified secant method), binary, or illinois (the secant "
-                 "with the Illinois step, which keeps no end of the interval for long)")
+                 "CDF inversion: secant (the paper's modified secant method), binary (halving), illinois (the "
+                 "secant with the Illinois step, which keeps no end of the interval for long), or classic (halving "
+                 "that, stopped by --search-depth, takes the interval's midpoint: Fig. 5's classical search)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"secant", "binary", "illinois"}))
+      ->check(CLI::IsMember({"secant", "binary", "illinois", "classic"}))
       ->group("Luminaires");
   cmd.add_option("--search-depth", o.depth,
-                 "Steps of the CDF inversion before it interpolates in the interval left (0: until exact)")
+                 "Steps of the CDF inversion before it interpolates in the interval left (classic: takes its "
+                 "midpoint; 0: until exact)")
       ->capture_default_str()
       ->check(CLI::Range(0u, 255u))
       ->group("Luminaires");

@@ -24,7 +24,7 @@ E parse_name(const std::string& name, const std::array<const char*, N>& names, c
 }
 
 constexpr std::array<const char*, 4> kSamplers{"restricted", "uniform", "global", "box"};
-constexpr std::array<const char*, 3> kSearches{"secant", "binary", "illinois"};
+constexpr std::array<const char*, 4> kSearches{"secant", "binary", "illinois", "classic"};
 constexpr std::array<const char*, 4> kVisibilities{"none", "cells", "samples", "cells-on-u"};
 constexpr std::array<const char*, 2> kSequences{"halton", "random"};
 

@@ -14,6 +14,7 @@ SVO_CONST uint SVO_LUM_SAMPLER_BOX = 3u;
 SVO_CONST uint SVO_LUM_SEARCH_SECANT = 0u;
 SVO_CONST uint SVO_LUM_SEARCH_BINARY = 1u;
 SVO_CONST uint SVO_LUM_SEARCH_ILLINOIS = 2u;
+SVO_CONST uint SVO_LUM_SEARCH_CLASSIC = 3u;
 SVO_CONST uint SVO_LUM_VIS_NONE = 0u;
 SVO_CONST uint SVO_LUM_VIS_CELLS = 1u;
 SVO_CONST uint SVO_LUM_VIS_SAMPLES = 2u;
@@ -217,7 +218,10 @@ SVO_FN float svo_lum_cdf_value(SvoLumInfo f, SvoLumCdf c, uint n, float x) {
 // its CDF value moved halfway to u for the next chord, so that neither end
 // stays (Dowell and Jarratt 1971). Binary: halving. `depth` > 0 stops after
 // that many steps and returns the chord's root in the interval left
-// (Fig. 5's comparison at equal depth).
+// (Fig. 5's comparison at equal depth). Classic: halving that, stopped
+// wider than one texel, returns the interval's midpoint, as a search that
+// does not use the CDF's linearity would (Fig. 5's "classical binary
+// search"); at one texel it interpolates, as every inversion does.
 SVO_FN float svo_lum_invert(SvoLumInfo f, SvoLumCdf cdf, uint n, uint lo, uint hi, float u, uint method, uint depth) {
   float clo = svo_lum_cdf_value(f, cdf, n, float(lo));
   float chi = svo_lum_cdf_value(f, cdf, n, float(hi));
@@ -232,7 +236,8 @@ SVO_FN float svo_lum_invert(SvoLumInfo f, SvoLumCdf cdf, uint n, uint lo, uint h
   uint guard = 24u;
   while (hi - lo > 1u && (depth == 0u || steps < depth)) {
     uint mid;
-    if (method != SVO_LUM_SEARCH_BINARY && (depth > 0u || steps < guard) && whi > wlo) {
+    bool halving = method == SVO_LUM_SEARCH_BINARY || method == SVO_LUM_SEARCH_CLASSIC;
+    if (!halving && (depth > 0u || steps < guard) && whi > wlo) {
       float t = (u - wlo) / (whi - wlo);
       mid = lo + uint(t * float(hi - lo));
       mid = clamp(mid, lo + 1u, hi - 1u);
@@ -256,6 +261,7 @@ SVO_FN float svo_lum_invert(SvoLumInfo f, SvoLumCdf cdf, uint n, uint lo, uint h
     }
     ++steps;
   }
+  if (method == SVO_LUM_SEARCH_CLASSIC && hi - lo > 1u) return 0.5f * float(lo + hi);
   float t = chi > clo ? clamp((u - clo) / (chi - clo), 0.0f, 1.0f) : 0.5f;
   return float(lo) + t * float(hi - lo);
 }

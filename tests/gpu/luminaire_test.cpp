@@ -235,26 +235,33 @@ TEST(LuminaireTables, SecantBinaryAndIllinoisSearchFindTheSamePoint) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const uint32_t img = t.reader.svo_lum_image(t.info, 1);
   const auto cdf = t.reader.svo_lum_table_cdf(img);
-  // Mean distance (texels) from the exact point after `depth` steps.
-  double off[3][5] = {};
+  // Mean distance (texels) from the exact point after `depth` steps, per
+  // method (secant, binary, illinois, classic).
+  double off[4][5] = {};
   for (int i = 0; i < 2000; ++i) {
     const float target = u(rng);
     const float exact = t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, 1, 0);
     ASSERT_NEAR(t.reader.svo_lum_cdf(img, 64, exact), target, 1e-5f);
-    for (uint32_t method : {0u, 2u}) {
+    for (uint32_t method : {0u, 2u, 3u}) {
       ASSERT_NEAR(t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, method, 0), exact, 1e-3f)
           << "method " << method << " at u = " << target;
     }
-    for (uint32_t method : {0u, 1u, 2u}) {
+    for (uint32_t method : {0u, 1u, 2u, 3u}) {
       for (uint32_t depth = 1; depth <= 4; ++depth) {
         off[method][depth] +=
             std::abs(t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, method, depth) - exact) / 2000;
       }
     }
+    // The classical search stopped at depth 3 is the midpoint of the same
+    // eighth of the interval the binary search interpolates in.
+    const float binary3 = t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, 1, 3);
+    EXPECT_EQ(t.reader.svo_lum_invert(t.info, cdf, 64, 0, 64, target, 3, 3), std::floor(binary3 / 8) * 8 + 4)
+        << "at u = " << target;
   }
   for (uint32_t depth = 1; depth <= 4; ++depth) {
-    std::printf("depth %u: mean distance from the exact point: secant %.3f, binary %.3f, illinois %.3f texels\n", depth,
-                off[0][depth], off[1][depth], off[2][depth]);
+    std::printf(
+        "depth %u: mean distance from the exact point: secant %.3f, binary %.3f, illinois %.3f, classic %.3f texels\n",
+        depth, off[0][depth], off[1][depth], off[2][depth], off[3][depth]);
   }
   // The Illinois step keeps no end of the interval for long: measured 1.08
   // against 2.05 texels at depth 4 (binary search 0.07: these spotty

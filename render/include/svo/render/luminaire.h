@@ -146,8 +146,10 @@ enum class LuminaireSampler : uint32_t {
                    // table), so that the density is exactly C_m / A_m (Eq. 10); Eq. 8's is not (docs/luminaire.md)
 };
 // The inversion of the CDFs (Fig. 5): the paper's modified secant (false
-// position), halving, or the Illinois variant of the secant (ours).
-enum class LuminaireSearch : uint32_t { Secant = 0, Binary = 1, Illinois = 2 };
+// position), halving (the chord's root in the interval a limited depth
+// leaves), the Illinois variant of the secant (ours), or the classical
+// binary search (halving; a limited depth returns the interval's midpoint).
+enum class LuminaireSearch : uint32_t { Secant = 0, Binary = 1, Illinois = 2, Classic = 3 };
 // The visibility of the luminaire from the shaded point, by cones through
 // the octree (section 6.2 with cones for shadow maps): one per basis cell
 // towards its reference position on S (the paper's), one per sample, or one
@@ -158,7 +160,7 @@ enum class LuminaireVisibility : uint32_t { None = 0, Cells = 1, Samples = 2, Ce
 enum class LuminaireSequence : uint32_t { Halton = 0, Random = 1 };
 
 const char* luminaire_sampler_name(LuminaireSampler s);        // "restricted", "uniform", "global", "box"
-const char* luminaire_search_name(LuminaireSearch s);          // "secant", "binary", "illinois"
+const char* luminaire_search_name(LuminaireSearch s);          // "secant", "binary", "illinois", "classic"
 const char* luminaire_visibility_name(LuminaireVisibility v);  // "none", "cells", "samples"
 const char* luminaire_sequence_name(LuminaireSequence s);      // "halton", "random"
 // @throw std::invalid_argument naming the values there are
