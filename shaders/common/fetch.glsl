@@ -202,7 +202,9 @@ SVO_FN float svo_sample_distance(SvoCell cell, vec3 p) {
 // The interpolated normal at p and, when `along` is set, its derivative
 // along the world direction q, from one fetch of the eight corners: the
 // normal of svo_sample_shading with `toward` zero (same terms, same order)
-// and its dn * q up to rounding (here summed per corner).
+// above the finest level, and its dn * q up to rounding (here summed per
+// corner). At the finest level the shading also weighs the corners by
+// svo_plane_weight; this normal, which the masks' coverage reads, does not.
 struct SvoNormalAlong {
   vec3 n;
   vec3 dn;  // zero unless `along`
@@ -253,7 +255,40 @@ SVO_FN float svo_facing_weight(vec3 n, vec3 toward, vec3 front) {
   return 1.0f - away * opposed;
 }
 
-SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian, vec3 toward) {
+// At the finest level, where each lattice sample's distance and normal are
+// the plane of the surface nearest to it, a corner's weight in the shading
+// fields is scaled by how well its plane passes through the surface at p:
+// exp(-(e / 0.25 voxel)^2), e the gap between the corner's plane,
+// hbar_k + n_k . (p - x_k), and the interpolated distance at p. Beside a
+// crease the corners across it hold the other face's plane, which misses p
+// by its distance from the crease: left in by their trilinear weight alone,
+// they drew the crease as a sawtooth whose teeth follow the lattice
+// (libcgal-demo's fandisk at 256^3, docs/RESULTS.md "Creases"). On a smooth
+// surface of radius R voxels every corner's gap is under 1.5 / R voxels.
+// At least 1e-3, so that where no corner's plane fits (p off the surface)
+// the weights fall back to the trilinear ones rather than to none.
+// `sharpen` in [0, 1] blends it in: a footprint as wide as the voxel
+// averages its normals, which is what the trilinear weights give; a point
+// sample would take the tip of a thin feature's normal alone (the
+// armadillo's claws, over-bright at its far view).
+SVO_CONST float SVO_PLANE_GAP = 0.25f;
+SVO_FN float svo_plane_weight(float sharpen, float hk, vec3 n, vec3 fo, float hp, float inv_voxel) {
+  if (sharpen <= 0.0f) return 1.0f;
+  float e = ((hk - hp) * inv_voxel + dot(n, fo)) * (1.0f / SVO_PLANE_GAP);
+  return mix(1.0f, max(exp(-e * e), 1.0e-3f), sharpen);
+}
+
+// How much of svo_plane_weight a footprint of radius r takes at the level
+// of `cell`: all of it up to a quarter of a finest voxel, none from three
+// quarters; none above the finest level, whose voxels hold filtered
+// statistics.
+SVO_FN float svo_plane_sharpen(SvoCell cell, float r) {
+  if (cell.depth + 1u < params.tree.y) return 0.0f;
+  return 1.0f - clamp(2.0f * r / params.material.z - 0.5f, 0.0f, 1.0f);
+}
+
+SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, bool jacobian, vec3 toward,
+                                           float sharpen) {
   SvoCorners c = svo_corners(cell, p);
   float inv_voxel = float(params.tree.x) / cell.size;
   bool distance = (parts & SVO_PART_DISTANCE) != 0u;
@@ -274,11 +309,19 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   // dialect rules out), they made lavapipe's whole trace kernel 2.1x slower
   // (bumpy sphere 256^3, mid view, 512^2: 1842 against 871 ms), since it
   // holds a private array in memory; natively the two cost the same.
+  // The same loop finds how far the corners' normals turn from corner 0's:
+  // where they all agree within about 5 degrees the planes' weights
+  // (svo_plane_weight) change little and are not computed (natively the
+  // mid views' frames took 5-11% longer with them everywhere).
   vec3 front = vec3(0.0f);
+  float agree = 1.0f;
   if (normal) {
     float best = -2.0f;
+    vec3 n0 = vec3(0.0f);
     for (uint k = 0u; k < 8u; ++k) {
       vec3 n = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+      if (k == 0u) n0 = n;
+      agree = min(agree, dot(n, n0));
       float f = dot(n, toward);
       if (f > best) {
         best = f;
@@ -286,6 +329,8 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
       }
     }
   }
+  bool finest = sharpen > 0.0f && normal && agree < 0.996f;
+  float hp = finest ? svo_sample_distance(cell, p) : 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the
   // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
@@ -294,17 +339,16 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     vec3 w = mix(vec3(1.0f) - c.f, c.f, o);
     float wk = w.x * w.y * w.z;
     bool first = k == 0u;
-    if (distance) {
-      float x = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u));
-      r.v.hbar = first ? wk * x : r.v.hbar + wk * x;
-    }
+    float hk = 0.0f;
+    if (distance || finest) hk = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u));
+    if (distance) r.v.hbar = first ? wk * hk : r.v.hbar + wk * hk;
     if (height) {
       float x = svo_fetch_sh2(cell.brick, s);
       r.v.sh2 = first ? wk * x : r.v.sh2 + wk * x;
     }
     if (!normal) continue;
     vec3 n = svo_fetch_normal(cell.brick, s);
-    float facing = svo_facing_weight(n, toward, front);
+    float facing = svo_facing_weight(n, toward, front) * svo_plane_weight(finest ? sharpen : 0.0f, hk, n, c.f - o, hp, inv_voxel);
     wk *= facing;
     kept += wk;
     r.v.n = first ? wk * n : r.v.n + wk * n;

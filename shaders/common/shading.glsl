@@ -138,9 +138,12 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
     // derivatives, from one fetch of each level's corners.
     bool spread = footprinted && params.material.w > 0.0f;
     vec3 toward = filtered ? view : vec3(0.0f);
-    SvoShadingSample sampled = svo_sample_shading(m.lo_cell, m.p, parts, spread, toward);
+    SvoShadingSample sampled =
+        svo_sample_shading(m.lo_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.lo_cell, m.radius));
     if (m.blend > 0.0f) {
-      sampled = svo_shading_sample_blend(sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward), m.blend);
+      sampled = svo_shading_sample_blend(
+          sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.hi_cell, m.radius)),
+          m.blend);
     }
     SvoVoxel a = sampled.v;
     // A cone's elements see different parts of a wide footprint: along a

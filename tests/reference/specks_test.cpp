@@ -22,6 +22,7 @@
 #include "svo/voxelizer/mesh.h"
 #include "svo/voxelizer/scenes.h"
 #include "temp_dir.h"
+#include "test_scenes.h"
 
 namespace svo::reference {
 namespace {
@@ -81,6 +82,8 @@ TEST(Specks, NoneBesideTheArmadillosThinFeatures) {
   rs.render = s;
   rs.spp = 16;
   const render::Frame truth = render_reference(*mesh_geometry(voxelizer::read_mesh(mesh)), rs);
+  test::save_for_inspection(ours, "specks-armadillo");
+  test::save_for_inspection(truth, "specks-armadillo-reference");
   const ImageErrors e = compare_images(render::frame_image(ours), render::frame_image(truth));
   std::printf(
       "armadillo far: relMSE %.5f, %llu specks, %llu of %llu pixels away from silhouettes off by more than "
