@@ -342,8 +342,8 @@ void run_luminaire_bench(const LuminaireBenchArgs& a) {
           s.luminaire.search = searches[i];
           s.luminaire.search_depth = depth;
         });
-        e[i] = record("search_depth_" + std::to_string(depth), render::luminaire_search_name(searches[i]), 200, f,
-                      truth);
+        e[i] =
+            record("search_depth_" + std::to_string(depth), render::luminaire_search_name(searches[i]), 200, f, truth);
         ms[i] = pass_ms(f, "luminaire");
       }
       md << "| " << (depth ? std::to_string(depth) : "exact") << " |";
@@ -444,9 +444,9 @@ void add_bench_luminaire_command(CLI::App& bench, int& exit_code) {
       "luminaire",
       "Lu et al. 2015's figures on the engine against quadrature of the same G-buffer: restricted, uniform and "
       "global sampling at equal samples and at equal error (Figs. 11, 12), K_max (Fig. 9), Halton against random "
-      "(Fig. 8), secant against binary, classical binary search and the Illinois secant (Fig. 5), cell against per-sample visibility "
-      "(Fig. 7) and frame times "
-      "(Fig. 10); writes table.md, results.csv, results.json and images to --out");
+      "(Fig. 8), secant against binary, classical binary search and the Illinois secant (Fig. 5), cell against "
+      "per-sample visibility (Fig. 7) and frame times (Fig. 10); writes table.md, results.csv, results.json and "
+      "images to --out");
   cmd->add_option("--scene", a->scene, "Built-in scene")->capture_default_str();
   cmd->add_option("--luminaires", a->luminaires,
                   "Emitters: led (an LED headlight, 3x3 dies), headlight (a smooth converging beam), or .lfl files; "

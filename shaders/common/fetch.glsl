@@ -311,8 +311,8 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   // holds a private array in memory; natively the two cost the same.
   // The same loop finds how far the corners' normals turn from corner 0's:
   // where they all agree within about 5 degrees the planes' weights
-  // (svo_plane_weight) change little and are not computed (natively the
-  // mid views' frames took 5-11% longer with them everywhere).
+  // (svo_plane_weight) change little and are not computed (natively a few
+  // per cent of the bunny's mid view at 512^3; docs/RESULTS.md "Creases").
   vec3 front = vec3(0.0f);
   float agree = 1.0f;
   if (normal) {
@@ -348,7 +348,8 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
     if (!normal) continue;
     vec3 n = svo_fetch_normal(cell.brick, s);
-    float facing = svo_facing_weight(n, toward, front) * svo_plane_weight(finest ? sharpen : 0.0f, hk, n, c.f - o, hp, inv_voxel);
+    float facing = svo_facing_weight(n, toward, front) *
+                   svo_plane_weight(finest ? sharpen : 0.0f, hk, n, c.f - o, hp, inv_voxel);
     wk *= facing;
     kept += wk;
     r.v.n = first ? wk * n : r.v.n + wk * n;

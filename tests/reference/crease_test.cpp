@@ -1,7 +1,7 @@
 // A sharp convex edge seen up close is drawn straight (issue 20: CAD parts'
 // edges were notched). A box turned so that its edges cross the lattice
-// obliquely, voxelized at 64^3, and one of its edges seen from 5-6 pixels a
-// finest voxel: the face across the edge once reached into the near face in
+// obliquely, voxelized at 64^3, and one of its edges seen at about 7 pixels
+// a finest voxel: the face across the edge once reached into the near face in
 // teeth a voxel apart, where corners holding the far face's normal took
 // their trilinear share (libcgal-demo's fandisk at 256^3, docs/RESULTS.md
 // "Creases"). The measure: the pixels away from silhouettes off by more
