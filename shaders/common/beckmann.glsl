@@ -23,7 +23,7 @@ SVO_FN float svo_beckmann_d(vec3 m, vec2 sigma2) {
   vec2 s2 = max(sigma2, vec2(SVO_MIN_SLOPE_VARIANCE));
   float z2 = m.z * m.z;
   float e = (m.x * m.x / s2.x + m.y * m.y / s2.y) / (2.0f * z2);
-  return exp(-e) / (2.0f * SVO_PI * sqrt(s2.x * s2.y) * z2 * z2);
+  return svo_exp_neg(e) / (2.0f * SVO_PI * sqrt(s2.x * s2.y) * z2 * z2);
 }
 
 // The cosine factor of a Lambertian micro-surface whose slopes have
@@ -58,7 +58,7 @@ SVO_FN float svo_rough_lambert(vec3 v, vec3 l, vec2 sigma2_in) {
   if (!(s > 1.0e-6f * abs(l.z))) return max((l.z + lean) * shrink, 0.0f);
   float z = l.z / s;
   float lit = 0.5f * svo_erfc(-z / SVO_SQRT2);          // Phi(z): the facets facing the light
-  float density = 0.398942280f * exp(-0.5f * z * z);  // phi(z)
+  float density = 0.398942280f * svo_exp_neg(0.5f * z * z);  // phi(z)
   return max((l.z * lit + s * density + lean * lit) * shrink, 0.0f);
 }
 

@@ -275,7 +275,8 @@ SVO_CONST float SVO_PLANE_GAP = 0.25f;
 SVO_FN float svo_plane_weight(float sharpen, float hk, vec3 n, vec3 fo, float hp, float inv_voxel) {
   if (sharpen <= 0.0f) return 1.0f;
   float e = ((hk - hp) * inv_voxel + dot(n, fo)) * (1.0f / SVO_PLANE_GAP);
-  return mix(1.0f, max(exp(-e * e), 1.0e-3f), sharpen);
+  // exp(-7) < 1e-3, the floor.
+  return mix(1.0f, max(exp(-min(e * e, 7.0f)), 1.0e-3f), sharpen);
 }
 
 // How much of svo_plane_weight a footprint of radius r takes at the level
