@@ -314,13 +314,27 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   // where they all agree within about 5 degrees the planes' weights
   // (svo_plane_weight) change little and are not computed (natively a few
   // per cent of the bunny's mid view at 512^3; docs/RESULTS.md "Creases").
+  // With the planes' weights asked for, it also checks that the corners'
+  // planes fit together: corners whose normals agree (within about 8
+  // degrees) should hold one plane. Where they lie apart the weights pick
+  // among planes the lattice placed, and are faded out from a quarter of a
+  // voxel apart (`apart`, against corner 0's plane and one other) to a
+  // half. Measured at libcgal-demo's turbine at 128^3: its ring steps by
+  // 0.73 voxel between two faces that both face along its axis, and the
+  // weights drew it as a row of teeth (1.5 dB lost); fandisk's far edges
+  // too (tests/reference/crease_test.cpp, docs/RESULTS.md "Creases").
   vec3 front = vec3(0.0f);
   float agree = 1.0f;
+  float apart = 0.0f;
   if (normal) {
     float best = -2.0f;
     vec3 n0 = vec3(0.0f);
+    vec3 n1 = vec3(0.0f);
+    float d0 = 0.0f;
+    float d1 = 0.0f;
     for (uint k = 0u; k < 8u; ++k) {
-      vec3 n = svo_fetch_normal(cell.brick, c.first + svo_corner_offset(k));
+      uint s = c.first + svo_corner_offset(k);
+      vec3 n = svo_fetch_normal(cell.brick, s);
       if (k == 0u) n0 = n;
       agree = min(agree, dot(n, n0));
       float f = dot(n, toward);
@@ -328,8 +342,25 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
         best = f;
         front = n;
       }
+      if (sharpen > 0.0f) {
+        // The corner's plane at the cell's centre, in voxels.
+        vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+        float d = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u)) * inv_voxel +
+                  dot(n, vec3(0.5f) - o);
+        if (k == 0u) {
+          d0 = d;
+        } else if (dot(n, n0) > 0.99f) {
+          apart = max(apart, abs(d - d0));
+        } else if (dot(n1, n1) == 0.0f) {
+          n1 = n;
+          d1 = d;
+        } else if (dot(n, n1) > 0.99f) {
+          apart = max(apart, abs(d - d1));
+        }
+      }
     }
   }
+  sharpen *= 1.0f - clamp(apart / SVO_PLANE_GAP - 1.0f, 0.0f, 1.0f);
   bool finest = sharpen > 0.0f && normal && agree < 0.996f;
   float hp = finest ? svo_sample_distance(cell, p) : 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the

@@ -19,9 +19,11 @@
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
+#include "svo/render/camera.h"
 #include "svo/render/renderer.h"
 #include "svo/voxelizer/build.h"
 #include "svo/voxelizer/mesh.h"
+#include "temp_dir.h"
 #include "test_scenes.h"
 
 namespace svo::reference {
@@ -71,6 +73,52 @@ TEST(Crease, AnObliqueBoxEdgeIsDrawnStraight) {
   EXPECT_LE(e.outliers, 20u);
   EXPECT_LT(e.relmse, 0.008);
 }
+
+// Where the corners' planes do not fit together the planes' weights are
+// left out (issue 20: libcgal-demo's turbine at 128^3 lost 1.5 dB to them,
+// its ring drawn as a row of teeth). There, corners whose normals agree
+// hold planes that lie apart: the ring steps by 0.73 of a voxel between
+// two faces that both face along its axis, and the corners that hold the
+// riser's plane are few and placed by the lattice. The weights fade out as
+// such planes lie from a quarter to a half of a voxel apart
+// (svo_sample_shading). Both meshes as scripts/mesh-sweep.sh draws them:
+// 128^3, far view, 256x256, against the reference at 16 spp.
+struct SweepCase {
+  const char* mesh;
+  uint64_t max_outliers;
+};
+
+class CreaseSweep : public ::testing::TestWithParam<SweepCase> {};
+
+TEST_P(CreaseSweep, PlanesThatDoNotFitAreLeftOut) {
+  svo::testing::TempDir dir;
+  const std::string mesh = svo::testing::extract_cgal_mesh(dir, GetParam().mesh);
+  voxelizer::VoxelizeOptions vo;
+  vo.resolution = 128;
+  const octree::Octree tree = voxelizer::voxelize(*voxelizer::load_mesh(mesh), vo);
+  render::RenderSettings s;
+  s.width = s.height = 256;
+  s.camera = render::view_preset(tree, "far");
+  s.lights = render::default_lights(s.camera);  // as svo render lights it
+  const render::Frame ours = render::render_cpu(tree, s);
+  ReferenceSettings rs;
+  rs.render = s;
+  rs.spp = 16;
+  const render::Frame truth = render_reference(*mesh_geometry(voxelizer::read_mesh(mesh)), rs);
+  test::save_for_inspection(ours, std::string("crease-") + GetParam().mesh);
+  test::save_for_inspection(truth, std::string("crease-") + GetParam().mesh + "-reference");
+  const ImageErrors e = compare_images(render::frame_image(ours), render::frame_image(truth));
+  std::printf("%s far: relMSE %.5f, %llu of %llu pixels away from silhouettes off by more than %.2f\n",
+              GetParam().mesh, e.relmse, (unsigned long long)e.outliers, (unsigned long long)e.interior_pixels,
+              kOutlierError);
+  EXPECT_LE(e.outliers, GetParam().max_outliers);
+}
+
+// Measured (pixels off): fandisk 43 with the fade, 115 without it (86
+// without the planes' weights); turbine 74, 92 (73).
+INSTANTIATE_TEST_SUITE_P(Meshes, CreaseSweep,
+                         ::testing::Values(SweepCase{"fandisk.off", 70}, SweepCase{"turbine.off", 84}),
+                         [](const auto& info) { return std::string(info.param.mesh).substr(0, 7); });
 
 }  // namespace
 }  // namespace svo::reference
