@@ -25,13 +25,19 @@ using namespace svo;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// This process's scratch directory, removed when the process exits (each
+// run left one behind before).
 fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("svo-gltf-vdb-test-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
+  struct Dir {
+    fs::path path = fs::temp_directory_path() / ("svo-gltf-vdb-test-" + std::to_string(::getpid()));
+    Dir() { fs::create_directories(path); }
+    ~Dir() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
 }
 
 void write_bytes(const fs::path& path, const std::string& bytes) {
