@@ -18,6 +18,7 @@
 #include "svo/voxelizer/mesh.h"
 #include "svo/voxelizer/scenes.h"
 #include "svo/voxelizer/vdb.h"
+#include "temp_dir.h"
 
 namespace {
 
@@ -25,19 +26,10 @@ using namespace svo;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// This process's scratch directory, removed when the process exits (each
-// run left one behind before).
+// This process's scratch directory, removed when the process exits.
 fs::path temp_dir() {
-  struct Dir {
-    fs::path path = fs::temp_directory_path() / ("svo-gltf-vdb-test-" + std::to_string(::getpid()));
-    Dir() { fs::create_directories(path); }
-    ~Dir() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
+  static const svo::testing::TempDir dir;
+  return dir.path();
 }
 
 void write_bytes(const fs::path& path, const std::string& bytes) {

@@ -15,24 +15,16 @@
 #include "lattice_points.h"
 #include "svo/octree/sampler.h"
 #include "svo/voxelizer/build.h"
+#include "temp_dir.h"
 
 namespace {
 using namespace svo;
 namespace fs = std::filesystem;
 
-// This process's scratch directory, removed when the process exits (each
-// run left one behind before).
+// This process's scratch directory, removed when the process exits.
 fs::path temp_dir() {
-  struct Dir {
-    fs::path path = fs::temp_directory_path() / ("svo_mesh_test_" + std::to_string(::getpid()));
-    Dir() { fs::create_directories(path); }
-    ~Dir() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
+  static const svo::testing::TempDir dir;
+  return dir.path();
 }
 
 // A cube [-0.5, 0.5]^3 as 12 triangles, outward-facing.
