@@ -480,6 +480,7 @@ void run_fig4(const FigureArgs& a, const std::string& scene_name, std::vector<fl
     s.camera = camera;
     s.camera.aperture = aperture;
     s.camera.focus = focus;
+    s.lens_parts = 1;  // the paper's one cone per pixel (svo render splits a wide lens: --lens-parts)
     s.background = glm::vec3(0);
     const std::string label = aperture > 0 ? "aperture " + fmt(aperture, 3) : std::string("pinhole");
     render::Frame truth = reference_frame(setup, s, a.spp, bar, label + ": reference");

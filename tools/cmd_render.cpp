@@ -53,6 +53,7 @@ struct RenderArgs {
   bool shared_normal = false;
   bool shade_at_axis = false;
   float shading_voxel = 1.0f;
+  uint32_t lens_parts = 0;
   std::string device;
   bool validate = false;
   bool cpu = false;
@@ -183,6 +184,13 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "footprint's spread (default: at the centre of the part of the footprint it covers first, with that "
                 "part's spread)")
       ->group(kAdvanced);
+  cmd->add_option("--lens-parts", a->lens_parts,
+                  "With --dof: split the lens into N x N parts, a cone each, averaged, at about N^2 the cost (0: "
+                  "from the blur's width in the object, 1 to 4: one cone for a gentle blur, more as it widens; one "
+                  "cone draws thin parts as wide as the blur, and a blur wider than the coarsest voxels as boxes)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 8u))
+      ->group("Camera");
   cmd->add_option("--shading-voxel", a->shading_voxel,
                   "Prefiltered: voxel size of the level shading reads, in cone radii (default 1: its voxels' box and "
                   "trilinear tent spread as the footprint does; occlusion reads 1.414)")
@@ -326,6 +334,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.element_normals = !a->shared_normal;
     settings.covered_part = !a->shade_at_axis;
     settings.shading_voxel = a->shading_voxel;
+    settings.lens_parts = a->lens_parts;
     settings.shadows = a->view.shadows;
     settings.gbuffer = !a->gbuffer.empty();
     for (const auto& [name, path] : aovs) {
@@ -449,6 +458,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
           {"element_normals", settings.element_normals},
           {"covered_part", settings.covered_part},
           {"shading_voxel", settings.shading_voxel},
+          {"lens_parts", settings.lens_parts},
           {"lights", lights_json(settings.lights)},
           {"camera", camera_json(settings.camera)},
           {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

@@ -214,7 +214,9 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   if (s.spp == 0 || root * root != s.spp || s.spp > 4096) {
     throw std::invalid_argument("rays per pixel must be a square in [1, 4096], got " + std::to_string(s.spp));
   }
-  p.lens = glm::vec4(c.focus, float(s.spp), 0, float(root));
+  if (s.lens_parts > 8) throw std::invalid_argument("lens parts must be in [0, 8], got " + std::to_string(s.lens_parts));
+  // lens.y: rays per pixel (raymarch) or lens parts a side (cones; 0: svo_lens_parts chooses).
+  p.lens = glm::vec4(c.focus, s.mode == Mode::RayMarch ? float(s.spp) : float(s.lens_parts), 0, float(root));
   p.domain = glm::vec4(tree.origin, tree.size);
   const float finest = tree.voxel_size(tree.depth_count - 1);
   if (const octree::Detail& d = tree.detail; d.octaves > 0) {

@@ -94,6 +94,11 @@ struct RenderSettings {
   // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
   float shading_voxel = 1.0f;
   uint32_t spp = 1;      // RayMarch: rays per pixel, a square (1, 4, 16, 64, ...)
+  // With a lens (camera.aperture > 0), cone modes: the lens is split into
+  // lens_parts x lens_parts parts, a cone each, averaged (tracer.glsl,
+  // svo_lens_parts). 0: chosen from the blur's width inside the domain
+  // (1 to 4). At most 8.
+  uint32_t lens_parts = 0;
   bool gbuffer = false;  // trace the G-buffer and fill Frame::gbuffer
   bool display = false;  // run the display pass and fill Frame::display
   // Multisample anti-aliasing: 1, 2 or 4 samples per pixel side. Above 1
