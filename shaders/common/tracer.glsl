@@ -169,8 +169,8 @@ SVO_FN vec2 svo_concentric_disk(vec2 u) {
 // - Narrower, one cone's mean planes still drew thin parts (a trunk, the
 //   dragon's whiskers) as wide as the blur and patched with the coarse
 //   voxels' planes: at the issue's strong blur (a lens of 0.041 eye
-//   distances, 256^3) 2 x 2 parts gave relMSE 5-14x lower than one cone
-//   for 3.6x the time, and no pixel off by 0.25 left on three of four
+//   distances, 256^3) 2 x 2 parts gave relMSE 3-14x lower than one cone
+//   for 2.9-3.9x the time, and no pixel off by 0.25 left on three of four
 //   meshes (docs/RESULTS.md, "Lenses in parts").
 SVO_FN uint svo_lens_parts() {
   if (!(params.cam_w.w > 0.0f)) return 1u;
