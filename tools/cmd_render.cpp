@@ -458,7 +458,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
           {"element_normals", settings.element_normals},
           {"covered_part", settings.covered_part},
           {"shading_voxel", settings.shading_voxel},
-          {"lens_parts", settings.lens_parts},
+          {"lens_parts", render::lens_parts(tree, settings)},
           {"lights", lights_json(settings.lights)},
           {"camera", camera_json(settings.camera)},
           {"gbuffer", a->gbuffer.empty() ? nlohmann::json(nullptr) : nlohmann::json(a->gbuffer)},

@@ -182,6 +182,23 @@ PixelRect domain_pixel_rect(const TraceParams& p) {
   return r.empty() ? PixelRect{} : r;
 }
 
+uint32_t lens_parts(const octree::Octree& tree, const RenderSettings& s) {
+  const Camera& c = s.camera;
+  if (s.mode == Mode::RayMarch || !(c.aperture > 0) || !(c.focus > 0)) return 1;
+  if (s.lens_parts > 0) return s.lens_parts;
+  // The widest the whole lens's cone gets inside the domain's bounding
+  // sphere (the pixel's own footprint left out), against what a quarter of
+  // the coarsest voxel / sqrt(2) resolves (tracer.glsl, svo_trace_pixel).
+  const float reach = glm::length(c.eye - (tree.origin + glm::vec3(0.5f * tree.size)));
+  const float half_diagonal = 0.5f * std::sqrt(3.0f) * tree.size;
+  const float widest = c.aperture *
+                       std::max(std::abs(reach + half_diagonal - c.focus),
+                                std::abs(std::max(reach - half_diagonal, 0.0f) - c.focus)) /
+                       c.focus;
+  const float coarsest = tree.size / (float(tree.brick_size) * std::sqrt(2.0f));
+  return uint32_t(std::clamp(std::ceil(widest / (0.25f * coarsest)), 1.0f, 4.0f));
+}
+
 TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& packed, const RenderSettings& s) {
   if (s.width == 0 || s.height == 0) throw std::invalid_argument("image size must be at least 1x1");
   if (s.lights.size() > size_t(kMaxLights)) {
@@ -215,8 +232,12 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
     throw std::invalid_argument("rays per pixel must be a square in [1, 4096], got " + std::to_string(s.spp));
   }
   if (s.lens_parts > 8) throw std::invalid_argument("lens parts must be in [0, 8], got " + std::to_string(s.lens_parts));
-  // lens.y: rays per pixel (raymarch) or lens parts a side (cones; 0: svo_lens_parts chooses).
-  p.lens = glm::vec4(c.focus, s.mode == Mode::RayMarch ? float(s.spp) : float(s.lens_parts), 0, float(root));
+  // Raymarch: spp rays per pixel, root a side; cones: the lens's parts a
+  // side (1 without a lens). lens.z, lens.w: the first row and the rows of
+  // them to trace, all of them unless a host splits them (gpu_renderer).
+  const uint32_t parts = lens_parts(tree, s);
+  p.lens = s.mode == Mode::RayMarch ? glm::vec4(c.focus, float(s.spp), 0, float(root))
+                                    : glm::vec4(c.focus, float(parts), 0, float(parts));
   p.domain = glm::vec4(tree.origin, tree.size);
   const float finest = tree.voxel_size(tree.depth_count - 1);
   if (const octree::Detail& d = tree.detail; d.octaves > 0) {

@@ -157,15 +157,14 @@ SVO_FN vec2 svo_concentric_disk(vec2 u) {
 }
 
 // How many parts a side (n x n in all) the lens is split into, the same for
-// every pixel of the frame; params.lens.y when set (at most 8), else
-// enough that no part's cone is wider inside the domain than a quarter of
-// the coarsest level's voxel / sqrt(2), at most 4 (16 cones).
-// - A cone wider than that voxel / sqrt(2) (the widest element svo_step
-//   reads without reaching past the 1.5 voxels that a lattice point
-//   without surface guarantees) read that floor as surface: a strongly
-//   defocused object was drawn as the outline of the coarse bricks, boxes
-//   with hard edges (the bunny at --dof 0.3,4.8: relMSE 0.164 with one
-//   cone, 0.023 with 3 x 3, 0.0139 with 4 x 4).
+// every pixel of the frame: params.lens.y, set by the host
+// (render::lens_parts, render/src/trace_setup.cpp), 1 without a lens.
+// - One cone wider than the coarsest voxel / sqrt(2) (the widest element
+//   svo_step reads without reaching past the 1.5 voxels that a lattice
+//   point without surface guarantees) read that floor as surface: a
+//   strongly defocused object was drawn as the outline of the coarse
+//   bricks, boxes with hard edges (the bunny at --dof 0.3,4.8: relMSE 0.160
+//   with one cone, 0.0138 with 4 x 4).
 // - Narrower, one cone's mean planes still drew thin parts (a trunk, the
 //   dragon's whiskers) as wide as the blur and patched with the coarse
 //   voxels' planes: at the issue's strong blur (a lens of 0.041 eye
@@ -173,14 +172,7 @@ SVO_FN vec2 svo_concentric_disk(vec2 u) {
 //   for 2.9-3.9x the time, and no pixel off by 0.25 left on three of four
 //   meshes (docs/RESULTS.md, "Lenses in parts").
 SVO_FN uint svo_lens_parts() {
-  if (!(params.cam_w.w > 0.0f)) return 1u;
-  if (params.lens.y >= 1.0f) return uint(min(params.lens.y, 8.0f));  // asked for
-  float reach = length(vec3(params.eye) - (vec3(params.domain) + 0.5f * params.domain.w));
-  float half_diagonal = 0.8660254f * params.domain.w;  // sqrt(3) / 2
-  float f = params.lens.x;
-  float widest = params.cam_w.w * max(abs(reach + half_diagonal - f), abs(max(reach - half_diagonal, 0.0f) - f)) / f;
-  float coarsest = params.domain.w / (float(params.tree.x) * SVO_SQRT2);
-  return uint(clamp(ceil(widest / (0.25f * coarsest)), 1.0f, 4.0f));
+  return params.cam_w.w > 0.0f ? uint(max(params.lens.y, 1.0f)) : 1u;
 }
 
 // The pixel: one cone with the pixel's footprint, or, in raymarch mode (the
@@ -192,11 +184,12 @@ SVO_FN SvoPixel svo_trace_pixel(uvec2 pixel) {
   bool march = mode == SVO_MODE_RAYMARCH;
   uint lens_parts = march ? 1u : svo_lens_parts();
   uint n = march ? uint(floor(sqrt(max(params.lens.y, 1.0f)) + 0.5f)) : lens_parts;
-  // Rows [first, first + rows) of the n x n grid of rays (lens.z, lens.w):
-  // hosts split many rays over several dispatches (lavapipe ends every
-  // loop of an invocation after 65,535 iterations in all).
-  uint first = march ? uint(params.lens.z) : 0u;
-  uint rows = march ? min(uint(params.lens.w), n - min(first, n)) : n;
+  // Rows [first, first + rows) of the n x n grid of rays or lens parts
+  // (lens.z, lens.w): hosts split many over several dispatches (lavapipe
+  // ends every loop of an invocation after 65,535 iterations in all).
+  bool split = march || lens_parts > 1u;
+  uint first = split ? uint(params.lens.z) : 0u;
+  uint rows = split ? min(uint(params.lens.w), n - min(first, n)) : 1u;
   // One loop for both, so that the shader holds one copy of the tracer.
   float k = march ? 0.0f : params.eye.w;
   uint cone_mode = march ? SVO_MODE_PREFILTERED : mode;

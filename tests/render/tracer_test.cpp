@@ -193,6 +193,44 @@ TEST(Tracer, RejectsBadSettingsWithAMessage) {
     s.shading_voxel = voxel;
     EXPECT_THROW(render_cpu(tree, s), std::invalid_argument) << voxel;
   }
+  s.shading_voxel = 1;
+  s.lens_parts = 9;
+  EXPECT_THROW(render_cpu(tree, s), std::invalid_argument);
+}
+
+// How many parts a side a lens is traced in (render::lens_parts): one
+// without a lens or in raymarch mode, the count asked for, else from the
+// blur's width inside the domain against the coarsest voxel (1 for a
+// gentle blur, up to 4), and the frame traces that many cones a pixel.
+TEST(Tracer, TheLensIsSplitAsTheBlurWidens) {
+  test::SphereScene sphere(0.5f);
+  octree::Octree tree = test::voxelize(sphere, 32);
+  RenderSettings s;
+  s.width = s.height = 16;
+  s.camera = test::looking_at_origin({0, 0, 3}, 40);
+  EXPECT_EQ(lens_parts(tree, s), 1u);
+  s.camera.focus = 3;
+  std::vector<uint32_t> parts;
+  for (float aperture : {0.005f, 0.05f, 0.2f, 1.0f}) {
+    s.camera.aperture = aperture;
+    parts.push_back(lens_parts(tree, s));
+  }
+  EXPECT_EQ(parts.front(), 1u);
+  EXPECT_EQ(parts.back(), 4u);
+  EXPECT_TRUE(std::is_sorted(parts.begin(), parts.end()));
+  s.camera.aperture = 0.2f;
+  const Frame chosen = render_cpu(tree, s);
+  s.lens_parts = 3;
+  EXPECT_EQ(lens_parts(tree, s), 3u);
+  const Frame three = render_cpu(tree, s);
+  s.lens_parts = 1;
+  const Frame one = render_cpu(tree, s);
+  // Each part's cone marches the sphere: the steps grow with the cones.
+  EXPECT_GT(three.steps_per_pixel, 4 * one.steps_per_pixel);
+  EXPECT_GT(chosen.steps_per_pixel, one.steps_per_pixel);
+  s.mode = Mode::RayMarch;
+  s.lens_parts = 3;
+  EXPECT_EQ(lens_parts(tree, s), 1u);
 }
 
 // The Vulkan host runs the tracer only over domain_pixel_rect and writes

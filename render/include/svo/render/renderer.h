@@ -285,6 +285,12 @@ std::string resolve_device(const std::string& device);
 // std::invalid_argument for validation on the native host.
 std::unique_ptr<Renderer> make_renderer(const octree::Octree& tree, const DeviceOptions& options);
 
+// The lens parts a side that a frame of `settings` traces (RenderSettings::
+// lens_parts, or, for 0, the tracer's choice): 1 without a lens or in
+// raymarch mode; else enough that no part's cone is wider inside the
+// domain than a quarter of the coarsest voxel / sqrt(2), at most 4.
+uint32_t lens_parts(const octree::Octree& tree, const RenderSettings& settings);
+
 // One frame on the native host (for tests): NativeRenderer(tree).render(settings).
 Frame render_cpu(const octree::Octree& tree, const RenderSettings& settings);
 
