@@ -125,7 +125,7 @@ TEST_F(TracerGpu, RayMarchingWithManyRaysAgreesWithTheCpuTracer) {
 TEST_F(TracerGpu, ALensInManyPartsAgreesWithTheCpuTracer) {
   vk::Context context(validated());
   GpuRenderer gpu(context, *tree_);
-  RenderSettings s = view(32);
+  RenderSettings s = view(16);
   const float distance = glm::length(s.camera.eye - s.camera.target);
   s.camera.aperture = 0.02f * distance;
   s.camera.focus = 1.2f * distance;
