@@ -157,6 +157,7 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
     if (!a->material.empty()) provenance["material"] = a->material;
     const std::string surface = source->surface();
     if (!surface.empty()) provenance["surface"] = surface;
+    if (source->two_sided()) provenance["two_sided"] = true;
     tree.source = provenance.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     if (tree.source.size() > octree::kMaxSourceBytes) tree.source.clear();  // a path of 64 KiB: not recorded
     bar.update("writing", 1.0);

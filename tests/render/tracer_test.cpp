@@ -218,6 +218,23 @@ TEST(Tracer, TheLensIsSplitAsTheBlurWidens) {
   EXPECT_EQ(parts.front(), 1u);
   EXPECT_EQ(parts.back(), 4u);
   EXPECT_TRUE(std::is_sorted(parts.begin(), parts.end()));
+  // An octree whose provenance says it holds two-sided shells: finer parts
+  // (never coarser, finer for some blur); provenance that does not say so
+  // in a boolean, or is not JSON, counts as closed.
+  octree::Octree shells = tree;
+  shells.source = R"({"input": "open.obj", "two_sided": true})";
+  bool finer = false;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    s.camera.aperture = std::vector<float>{0.005f, 0.05f, 0.2f, 1.0f}[i];
+    EXPECT_GE(lens_parts(shells, s), parts[i]);
+    finer = finer || lens_parts(shells, s) > parts[i];
+    for (const char* text : {R"({"two_sided": "yes"})", "two_sided", R"([true])"}) {
+      octree::Octree odd = tree;
+      odd.source = text;
+      EXPECT_EQ(lens_parts(odd, s), parts[i]) << text;
+    }
+  }
+  EXPECT_TRUE(finer);
   s.camera.aperture = 0.2f;
   const Frame chosen = render_cpu(tree, s);
   s.lens_parts = 3;

@@ -64,6 +64,7 @@ class MeshSource : public SurfaceSource {
   double surface_area() const override { return mesh_.area; }
   std::vector<std::string> materials() const override { return mesh_.materials; }
   std::string surface() const override { return mesh_.surface; }
+  bool two_sided() const override { return mesh_.two_sided; }
   // Narrow band of 3 voxels each side, float distance + int32 polygon index, tree overhead.
   double bytes_per_sample() const override { return 6 * (4 + 4) * 1.5; }
 

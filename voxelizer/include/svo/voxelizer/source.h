@@ -88,6 +88,10 @@ class SurfaceSource {
   // What was decided about the surface's inside and outside, one line
   // (TriangleMesh::surface); empty where there was nothing to decide.
   virtual std::string surface() const { return {}; }
+  // Whether some of the surface is drawn two-sided, as a thin shell
+  // (TriangleMesh::two_sided): the octree records it, and a defocused
+  // frame splits its lens finer there (render::lens_parts).
+  virtual bool two_sided() const { return false; }
   // Called once before any other query below, with the lattice to serve.
   virtual void prepare(const Lattice& lattice) = 0;
   // Finest-level bricks (`brick_size` cells, brick b owns lattice points
