@@ -288,7 +288,9 @@ std::unique_ptr<Renderer> make_renderer(const octree::Octree& tree, const Device
 // The lens parts a side that a frame of `settings` traces (RenderSettings::
 // lens_parts, or, for 0, the tracer's choice): 1 without a lens or in
 // raymarch mode; else enough that no part's cone is wider inside the
-// domain than a quarter of the coarsest voxel / sqrt(2), at most 4.
+// domain than a quarter of the coarsest voxel / sqrt(2) (an eighth where
+// the octree's provenance says "two_sided": its shells swell under a
+// wide cone), at most 4.
 uint32_t lens_parts(const octree::Octree& tree, const RenderSettings& settings);
 
 // One frame on the native host (for tests): NativeRenderer(tree).render(settings).
