@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "cgal_far_view.h"
 #include "grid_mesh.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
@@ -91,23 +92,8 @@ struct SweepCase {
 class CreaseSweep : public ::testing::TestWithParam<SweepCase> {};
 
 TEST_P(CreaseSweep, PlanesThatDoNotFitAreLeftOut) {
-  svo::testing::TempDir dir;
-  const std::string mesh = svo::testing::extract_cgal_mesh(dir, GetParam().mesh);
-  voxelizer::VoxelizeOptions vo;
-  vo.resolution = 128;
-  const octree::Octree tree = voxelizer::voxelize(*voxelizer::load_mesh(mesh), vo);
-  render::RenderSettings s;
-  s.width = s.height = 256;
-  s.camera = render::view_preset(tree, "far");
-  s.lights = render::default_lights(s.camera);  // as svo render lights it
-  const render::Frame ours = render::render_cpu(tree, s);
-  ReferenceSettings rs;
-  rs.render = s;
-  rs.spp = 16;
-  const render::Frame truth = render_reference(*mesh_geometry(voxelizer::read_mesh(mesh)), rs);
-  test::save_for_inspection(ours, std::string("crease-") + GetParam().mesh);
-  test::save_for_inspection(truth, std::string("crease-") + GetParam().mesh + "-reference");
-  const ImageErrors e = compare_images(render::frame_image(ours), render::frame_image(truth));
+  const FarFrames f = cgal_far_view(GetParam().mesh, 128, 256, 16, true, std::string("crease-") + GetParam().mesh);
+  const ImageErrors e = compare_images(render::frame_image(f.ours), render::frame_image(f.truth));
   std::printf("%s far: relMSE %.5f, %llu of %llu pixels away from silhouettes off by more than %.2f\n",
               GetParam().mesh, e.relmse, (unsigned long long)e.outliers, (unsigned long long)e.interior_pixels,
               kOutlierError);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <glm/geometric.hpp>
 
+#include "cgal_far_view.h"
 #include "svo/reference/compare.h"
 #include "svo/reference/geometry.h"
 #include "svo/reference/reference.h"
@@ -69,22 +70,8 @@ TEST(Specks, NoCoverageAwayFromTheSilhouetteAtCoarseLevels) {
 // pixel we cover may lie where the reference covers nothing within 2
 // pixels, and none away from silhouettes may be off by more than 0.25.
 TEST(Specks, NoneBesideTheArmadillosThinFeatures) {
-  svo::testing::TempDir dir;
-  const std::string mesh = svo::testing::extract_cgal_mesh(dir, "armadillo.off");
-  voxelizer::VoxelizeOptions vo;
-  vo.resolution = 256;
-  const octree::Octree tree = voxelizer::voxelize(*voxelizer::load_mesh(mesh), vo);
-  render::RenderSettings s;
-  s.width = s.height = 256;
-  s.camera = render::view_preset(tree, "far");
-  const render::Frame ours = render::render_cpu(tree, s);
-  ReferenceSettings rs;
-  rs.render = s;
-  rs.spp = 16;
-  const render::Frame truth = render_reference(*mesh_geometry(voxelizer::read_mesh(mesh)), rs);
-  test::save_for_inspection(ours, "specks-armadillo");
-  test::save_for_inspection(truth, "specks-armadillo-reference");
-  const ImageErrors e = compare_images(render::frame_image(ours), render::frame_image(truth));
+  const FarFrames f = cgal_far_view("armadillo.off", 256, 256, 16, false, "specks-armadillo");
+  const ImageErrors e = compare_images(render::frame_image(f.ours), render::frame_image(f.truth));
   std::printf(
       "armadillo far: relMSE %.5f, %llu specks, %llu of %llu pixels away from silhouettes off by more than "
       "%.2f\n",

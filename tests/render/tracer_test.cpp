@@ -210,8 +210,9 @@ TEST(Tracer, TheLensIsSplitAsTheBlurWidens) {
   s.camera = test::looking_at_origin({0, 0, 3}, 40);
   EXPECT_EQ(lens_parts(tree, s), 1u);
   s.camera.focus = 3;
+  const std::vector<float> apertures{0.005f, 0.05f, 0.2f, 1.0f};
   std::vector<uint32_t> parts;
-  for (float aperture : {0.005f, 0.05f, 0.2f, 1.0f}) {
+  for (float aperture : apertures) {
     s.camera.aperture = aperture;
     parts.push_back(lens_parts(tree, s));
   }
@@ -225,7 +226,7 @@ TEST(Tracer, TheLensIsSplitAsTheBlurWidens) {
   shells.source = R"({"input": "open.obj", "two_sided": true})";
   bool finer = false;
   for (size_t i = 0; i < parts.size(); ++i) {
-    s.camera.aperture = std::vector<float>{0.005f, 0.05f, 0.2f, 1.0f}[i];
+    s.camera.aperture = apertures[i];
     EXPECT_GE(lens_parts(shells, s), parts[i]);
     finer = finer || lens_parts(shells, s) > parts[i];
     for (const char* text : {R"({"two_sided": "yes"})", "two_sided", R"([true])"}) {
