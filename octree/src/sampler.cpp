@@ -19,11 +19,6 @@ constexpr size_t kMaxChannels = 16, kMaxSampleBytes = 4;
 // then by the bits of S (x = 1, y = 2, z = 4).
 constexpr uint32_t kCandidates[7] = {1, 2, 4, 3, 5, 6, 7};
 
-// |hbar| of a lattice point whose footprint (a box of one voxel) may hold
-// the surface: the mean plane passes through the box, at most half its
-// diagonal from the centre.
-constexpr float kMayHoldSurface = 0.8660254f;  // sqrt(3) / 2
-
 glm::ivec3 axis_bits(uint32_t mask) { return {int(mask & 1u), int((mask >> 1) & 1u), int((mask >> 2) & 1u)}; }
 
 uint32_t local_index(glm::ivec3 l, int B) { return uint32_t((l.z * B + l.y) * B + l.x); }

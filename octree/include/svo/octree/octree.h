@@ -46,7 +46,10 @@
 //     holds no surface either, and a surface between q and p is unlikely).
 //   - Every other channel: the encoded bytes of the nearest stored sample q.
 // On the built-in scenes this puts the reconstructed distance on the
-// surface's side at all but a few in 10^4 points (docs/RESULTS.md).
+// surface's side at all but a few in 10^4 points (docs/RESULTS.md). At the
+// finest depth the voxelizer leaves none: where the rule would take q's
+// side against the extrapolation, or from one short of the floor, it
+// stores the owner's brick instead (voxelizer/src/build.cpp).
 //
 // Nodes are stored depth by depth; the children of a node are 8 consecutive
 // nodes (a tile) at depth + 1, in x-fastest order. A node without surface

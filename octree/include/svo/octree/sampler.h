@@ -28,6 +28,11 @@ struct LatticeSource {
   uint32_t depth = 0;      // depth of p (and of the brick)
 };
 
+// |hbar| / voxel of a lattice point whose footprint (a box of one voxel) may
+// hold the surface: the mean plane passes through the box, at most half its
+// diagonal from the centre (sqrt(3) / 2).
+constexpr float kMayHoldSurface = 0.8660254f;
+
 // The smallest distance magnitude of a reconstructed lattice point at
 // `depth` (octree.h): max(voxel_size(depth) / 2 - h, h / 2), h the finest
 // voxel size, scene units.
