@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <tuple>
@@ -91,6 +92,7 @@ class MeshSource : public SurfaceSource {
     distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, kBandVoxels, kBandVoxels, 0,
                                                                  index_.get());
     if (!open_ && (mesh_.open_edges || mesh_.nonmanifold_edges)) check_flood_fill();
+    if (!open_) find_neighbours();
   }
 
   std::vector<glm::ivec3> candidate_bricks(uint32_t brick_size) const override {
@@ -161,8 +163,17 @@ class MeshSource : public SurfaceSource {
                 }
               }
             } else {
-              point.distance = float(d < 0 ? -exact : exact);
-              if (!point.near) point.distance = d < 0 ? -band : band;
+              // OpenVDB's sign (its flood fill) was wrong at 297 lattice points
+              // beside fandisk's edges at 256^3, up to half a voxel outside.
+              // Where the side of the closest feature disagrees with it, the
+              // winding number decides (the feature alone would be wrong
+              // inside one of two overlapping solids, near the other's faces).
+              bool inside = d < 0;
+              if (const int side = side_of(p, c, size_t(tri), bary); side != 0 && (side < 0) != inside) {
+                inside = winding()(p) > 0.5;
+              }
+              point.distance = float(inside ? -exact : exact);
+              if (!point.near) point.distance = inside ? -band : band;
               // Where the closest point lies on an edge or a corner, the
               // distance's gradient (DESIGN section 6) instead of a face's
               // normal: it turns continuously around a convex crease, where
@@ -170,7 +181,7 @@ class MeshSource : public SurfaceSource {
               // interpolation drew the jump as a staircase (the Chinese
               // dragon at 512^3, issue 20 item 2).
               const bool on_edge = std::min({bary.x, bary.y, bary.z}) <= 0;
-              if (on_edge && exact > 1e-3 * h) point.normal = glm::vec3((p - c) / (d < 0 ? -exact : exact));
+              if (on_edge && exact > 1e-3 * h) point.normal = glm::vec3((p - c) / (inside ? -exact : exact));
             }
           } else {
             float magnitude = std::max(std::abs(d), band);
@@ -196,13 +207,12 @@ class MeshSource : public SurfaceSource {
     size_t count = 0;
     for (auto v = distance_->cbeginValueOn(); v; ++v) count += qualifies(*v);
     if (count == 0) return;
-    const WindingNumber winding(mesh_.positions, mesh_.triangles);
     const size_t stride = std::max<size_t>(1, count / 2000);
     size_t seen = 0, checked = 0, disagree = 0;
     for (auto v = distance_->cbeginValueOn(); v; ++v) {
       if (!qualifies(*v) || seen++ % stride != 0) continue;
       const openvdb::Coord c = v.getCoord();
-      const bool inside = winding(lattice_.position({c.x(), c.y(), c.z()})) > 0.5;
+      const bool inside = winding()(lattice_.position({c.x(), c.y(), c.z()})) > 0.5;
       disagree += inside != (*v < 0);
       ++checked;
     }
@@ -248,6 +258,74 @@ class MeshSource : public SurfaceSource {
         if (open_corners.count(id[size_t(mesh_.triangles[f][i])])) open_sides_[f] |= uint8_t(8u << i);
   }
 
+  // The winding number of the mesh, made on first use. Thread-safe.
+  const WindingNumber& winding() const {
+    std::call_once(winding_once_, [this] { winding_ = std::make_unique<WindingNumber>(mesh_.positions, mesh_.triangles); });
+    return *winding_;
+  }
+
+  // The faces around each edge and each corner, by position (welded).
+  void find_neighbours() {
+    if (mesh_.welded.size() != mesh_.positions.size()) {
+      mesh_.welded.resize(mesh_.positions.size());
+      std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
+    }
+    uint32_t ids = 0;
+    for (uint32_t w : mesh_.welded) ids = std::max(ids, w + 1);
+    corner_first_.assign(size_t(ids) + 1, 0);
+    for (const glm::ivec3& t : mesh_.triangles)
+      for (int i = 0; i < 3; ++i) ++corner_first_[mesh_.welded[size_t(t[i])] + 1];
+    for (size_t i = 1; i < corner_first_.size(); ++i) corner_first_[i] += corner_first_[i - 1];
+    corner_faces_.resize(corner_first_.back());
+    std::vector<uint32_t> fill(corner_first_.begin(), corner_first_.end() - 1);
+    for (size_t f = 0; f < mesh_.triangles.size(); ++f)
+      for (int i = 0; i < 3; ++i) corner_faces_[fill[mesh_.welded[size_t(mesh_.triangles[f][i])]]++] = uint32_t(f);
+  }
+
+  // Which side of the surface p lies on, by the feature its closest point
+  // c lies on (Baerentzen and Aanaes 2005): the face's normal inside a
+  // face; on an edge or at a corner, the angle-weighted sum of the normals
+  // of the faces around it (by position, TriangleMesh::welded), whose sign
+  // is exact for a closed, consistently wound mesh. +1 outside, -1 inside,
+  // 0 where the test is not clear (p on the surface, or an edge that is not
+  // shared by exactly two faces).
+  int side_of(glm::dvec3 p, glm::dvec3 c, size_t tri, glm::dvec3 bary) const {
+    const glm::dvec3 off = p - c;
+    const double gap = glm::length(off);
+    if (!(gap > 0)) return 0;
+    const glm::ivec3& t = mesh_.triangles[tri];
+    uint32_t corners[2] = {0, 0};
+    int n = 0;
+    for (int i = 0; i < 3; ++i)
+      if (bary[i] > 0) corners[std::min(n++, 1)] = mesh_.welded[size_t(t[i])];
+    glm::dvec3 normal(mesh_.face_normals[tri]);
+    if (n == 2) {  // on an edge: the two faces that share it
+      normal = glm::dvec3(0);
+      int faces = 0;
+      for (uint32_t k = corner_first_[corners[0]]; k < corner_first_[corners[0] + 1]; ++k) {
+        const glm::ivec3& u = mesh_.triangles[corner_faces_[k]];
+        bool has = false;
+        for (int i = 0; i < 3; ++i) has |= mesh_.welded[size_t(u[i])] == corners[1];
+        if (has) normal += glm::dvec3(mesh_.face_normals[corner_faces_[k]]), ++faces;
+      }
+      if (faces != 2) return 0;
+    } else if (n == 1) {  // at a corner: each face around it by its angle there
+      normal = glm::dvec3(0);
+      for (uint32_t k = corner_first_[corners[0]]; k < corner_first_[corners[0] + 1]; ++k) {
+        const glm::ivec3& u = mesh_.triangles[corner_faces_[k]];
+        int at = 0;
+        while (at < 2 && mesh_.welded[size_t(u[at])] != corners[0]) ++at;
+        const glm::dvec3 o = mesh_.positions[size_t(u[at])];
+        const glm::dvec3 e1 = mesh_.positions[size_t(u[(at + 1) % 3])] - o, e2 = mesh_.positions[size_t(u[(at + 2) % 3])] - o;
+        const double angle = std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
+        normal += angle * glm::dvec3(mesh_.face_normals[corner_faces_[k]]);
+      }
+    }
+    const double along = glm::dot(off, normal), size = glm::length(normal);
+    if (!(std::abs(along) > 1e-3 * gap * size)) return 0;
+    return along > 0 ? 1 : -1;
+  }
+
   // Whether the closest point of barycentric coordinates `bary` on triangle
   // `tri` lies on an open edge or a corner of one.
   bool on_open_side(size_t tri, glm::dvec3 bary) const {
@@ -269,6 +347,9 @@ class MeshSource : public SurfaceSource {
   // Drawn as shells; OpenVDB's sign (a flood-fill guess there) is unused.
   bool open_ = mesh_.two_sided;
   std::vector<uint8_t> open_sides_;  // find_open_sides()
+  std::vector<uint32_t> corner_first_, corner_faces_;  // find_neighbours()
+  mutable std::once_flag winding_once_;
+  mutable std::unique_ptr<WindingNumber> winding_;
   Lattice lattice_;
   openvdb::math::Transform::Ptr transform_;
   openvdb::FloatGrid::Ptr distance_;
