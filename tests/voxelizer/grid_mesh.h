@@ -2,8 +2,11 @@
 // from flat pieces (tests/voxelizer, tests/reference).
 #pragma once
 
+#include <cstdint>
 #include <glm/vec3.hpp>
+#include <utility>
 
+#include "svo/voxelizer/build.h"
 #include "svo/voxelizer/mesh.h"
 
 namespace svo::test {
@@ -32,6 +35,14 @@ inline void add_box(voxelizer::MeshArrays& m, glm::dvec3 lo, glm::dvec3 hi, int 
   add_grid(m, {hi.x, lo.y, lo.z}, y, z, n);  // +x
   add_grid(m, lo, y, x, n);                  // -z
   add_grid(m, {lo.x, lo.y, hi.z}, x, y, n);  // +z
+}
+
+// `mesh` voxelized at resolution^3 (the default brick size).
+inline octree::Octree voxelize_mesh(voxelizer::TriangleMesh mesh, uint32_t resolution) {
+  auto source = voxelizer::mesh_source(std::move(mesh));
+  voxelizer::VoxelizeOptions options;
+  options.resolution = resolution;
+  return voxelizer::voxelize(*source, options);
 }
 
 }  // namespace svo::test

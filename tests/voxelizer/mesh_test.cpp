@@ -635,10 +635,7 @@ TEST(Mesh, TexturedQuadsKeepTheirCornersCoordinates) {
 // side (the first five reported).
 std::pair<int, int> samples_against_winding(voxelizer::TriangleMesh mesh) {
   const voxelizer::WindingNumber winding(mesh.positions, mesh.triangles);
-  auto source = voxelizer::mesh_source(std::move(mesh));
-  voxelizer::VoxelizeOptions options;
-  options.resolution = 64;
-  const octree::Octree tree = voxelizer::voxelize(*source, options);
+  const octree::Octree tree = test::voxelize_mesh(std::move(mesh), 64);
   const uint32_t D = tree.depth_count - 1;
   const float h = tree.voxel_size(D);
   int checked = 0, wrong = 0;

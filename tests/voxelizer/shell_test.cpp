@@ -40,10 +40,7 @@ voxelizer::TriangleMesh tilted_sheet() {
 TEST(OpenShell, EveryLatticePointNearTheShellFacesIsStored) {
   voxelizer::TriangleMesh mesh = tilted_sheet();
   ASSERT_TRUE(mesh.two_sided);
-  auto source = voxelizer::mesh_source(std::move(mesh));
-  voxelizer::VoxelizeOptions options;
-  options.resolution = 64;
-  const octree::Octree tree = voxelizer::voxelize(*source, options);
+  const octree::Octree tree = test::voxelize_mesh(std::move(mesh), 64);
   const uint32_t D = tree.depth_count - 1;
   const float h = tree.voxel_size(D);
   const glm::vec3 n = glm::normalize(glm::vec3(-float(kSlope), 0, 1));
