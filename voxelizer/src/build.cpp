@@ -254,6 +254,7 @@ struct Builder {
     const int b = int(B), limit = int(N / B);
     const float floor = 0.5f * float(h);
     auto f = [&](glm::ivec3 l) { return points[size_t((l.z * b + l.y) * b + l.x)].distance; };
+    uint32_t flagged = 0;  // bit s: the owner at brick + axis_bits(s)
     for (int z = 0; z <= b; ++z)
       for (int y = 0; y <= b; ++y)
         for (int x = 0; x <= b; ++x) {
@@ -275,8 +276,11 @@ struct Builder {
           const float nearest = f(q);
           const bool crosses = (sum < 0) != std::signbit(nearest);
           const bool overridden = crosses && !(std::abs(nearest) < octree::kMayHoldSurface * float(h));
-          if (overridden || !(std::abs(sum) >= floor)) out.emplace_back(pack(brick), pack(owner));
+          if (overridden || !(std::abs(sum) >= floor)) flagged |= 1u << (axes.x + 2 * axes.y + 4 * axes.z);
         }
+    for (int s = 1; s < 8; ++s) {
+      if (flagged & (1u << s)) out.emplace_back(pack(brick), pack(brick + glm::ivec3(s & 1, (s >> 1) & 1, s >> 2)));
+    }
   }
 
   void coarse_statistics() {
