@@ -19,6 +19,11 @@ constexpr size_t kMaxChannels = 16, kMaxSampleBytes = 4;
 // then by the bits of S (x = 1, y = 2, z = 4).
 constexpr uint32_t kCandidates[7] = {1, 2, 4, 3, 5, 6, 7};
 
+// |hbar| / voxel of a lattice point whose footprint (a box of one voxel) may
+// hold the surface: the mean plane passes through the box, at most half its
+// diagonal from the centre.
+constexpr float kMayHoldSurface = 0.8660254f;  // sqrt(3) / 2
+
 glm::ivec3 axis_bits(uint32_t mask) { return {int(mask & 1u), int((mask >> 1) & 1u), int((mask >> 2) & 1u)}; }
 
 uint32_t local_index(glm::ivec3 l, int B) { return uint32_t((l.z * B + l.y) * B + l.x); }
@@ -113,44 +118,51 @@ void source_bytes(const Octree& tree, size_t c, const LatticeSource& source, uin
     std::memcpy(out, pool + source.sample * bytes, bytes);
     return;
   }
-  // The distance is F32 (encoding_fits). Per axis of S the stencil is
-  // 2 f(B - 1) - f(B - 2); over several axes, the product of the stencils.
+  // The distance is F32 (encoding_fits).
   const uint32_t B = tree.brick_size, step[3] = {1, B, B * B};
   double sum = 0;
   for (uint32_t t = 0; t < 8; ++t) {
-    if (t & ~source.axes) continue;
-    double w = 1;
+    const double w = extrapolation_weight(source.axes, t);
+    if (w == 0) continue;
     uint64_t i = source.sample;
-    for (int a = 0; a < 3; ++a) {
-      if (!((source.axes >> a) & 1u)) continue;
-      if ((t >> a) & 1u) {
-        w = -w;
-        i -= step[a];
-      } else {
-        w *= 2;
-      }
-    }
+    for (int a = 0; a < 3; ++a) i -= ((t >> a) & 1u) * step[a];
     float v;
     std::memcpy(&v, pool + i * 4, 4);
     sum += w * double(v);
   }
+  float nearest;
+  std::memcpy(&nearest, pool + source.sample * 4, 4);
+  const float value =
+      reconstructed_distance(sum, nearest, reconstruction_floor(tree, source.depth), tree.voxel_size(source.depth));
+  std::memcpy(out, &value, 4);
+}
+
+double extrapolation_weight(uint32_t axes, uint32_t t) {
+  // Per axis of S the stencil is 2 f(B - 1) - f(B - 2); over several axes,
+  // the product of the stencils.
+  if (t & ~axes) return 0;
+  double w = 1;
+  for (int a = 0; a < 3; ++a) {
+    if ((axes >> a) & 1u) w *= ((t >> a) & 1u) ? -1.0 : 2.0;
+  }
+  return w;
+}
+
+float reconstructed_distance(double extrapolated, float nearest, float floor, float voxel) {
   // No surface is near p (its owner has no brick): at least the floor away
   // from zero. It may lie across the surface from the nearest stored sample
   // q only if q's footprint may hold the surface (a voxel's mean plane passes
   // through its box: |hbar(q)| < sqrt(3) / 2 voxel); otherwise, and when the
   // extrapolation falls short of the floor, it stays on q's side.
-  float nearest;
-  std::memcpy(&nearest, pool + source.sample * 4, 4);
-  const float floor = reconstruction_floor(tree, source.depth);
   const float side = std::signbit(nearest) ? -1.0f : 1.0f;
-  float value = float(sum);
+  float value = float(extrapolated);
   const bool crosses = value * side < 0;
-  if (std::isnan(value) || (crosses && !(std::abs(nearest) < kMayHoldSurface * tree.voxel_size(source.depth)))) {
+  if (std::isnan(value) || (crosses && !(std::abs(nearest) < kMayHoldSurface * voxel))) {
     value = side * std::max(floor, std::abs(nearest));
   } else if (!(std::abs(value) >= floor)) {
     value = side * floor;
   }
-  std::memcpy(out, &value, 4);
+  return value;
 }
 
 std::optional<Voxel> lattice_voxel(const Octree& tree, uint32_t depth, glm::ivec3 p) {

@@ -244,9 +244,10 @@ struct Builder {
   // 0.62 voxel above its top face, on the brick face just above it, was
   // rebuilt as -0.5 voxel (inside) from the side face's distances below
   // it, and moved a long edge outwards by a voxel. The owners of face
-  // points where the rule decides the side against the extrapolation or
-  // on weak evidence (it falls short of the floor) are flagged (brick,
-  // owner), to be stored with their exact values: fandisk at 256^3 gains
+  // points where the rule (octree::reconstructed_distance) decides the side
+  // against the extrapolation or on weak evidence (it falls short of the
+  // floor) are flagged (brick, owner), to be stored with their exact
+  // values: fandisk at 256^3 gains
   // 145 bricks (4%), and no face point of the finest depth is rebuilt on
   // the wrong side (tests/voxelizer/faces_test.cpp).
   void flag_unsure_faces(glm::ivec3 brick, const std::vector<FinePoint>& points,
@@ -264,19 +265,14 @@ struct Builder {
           const glm::ivec3 owner = brick + axes;
           if (glm::any(glm::greaterThanEqual(owner, glm::ivec3(limit)))) continue;  // the domain's shell
           const glm::ivec3 q = l - axes;
+          const uint32_t s = uint32_t(axes.x + 2 * axes.y + 4 * axes.z);
           double sum = 0;
-          for (int t = 0; t < 8; ++t) {
-            const glm::ivec3 tb(t & 1, (t >> 1) & 1, t >> 2);
-            if (glm::any(glm::greaterThan(tb, axes))) continue;
-            double w = 1;
-            for (int a = 0; a < 3; ++a)
-              if (axes[a]) w *= tb[a] ? -1.0 : 2.0;
-            sum += w * double(f(q - tb));
+          for (uint32_t t = 0; t < 8; ++t) {
+            const double w = octree::extrapolation_weight(s, t);
+            if (w != 0) sum += w * double(f(q - glm::ivec3(t & 1u, (t >> 1) & 1u, t >> 2)));
           }
-          const float nearest = f(q);
-          const bool crosses = (sum < 0) != std::signbit(nearest);
-          const bool overridden = crosses && !(std::abs(nearest) < octree::kMayHoldSurface * float(h));
-          if (overridden || !(std::abs(sum) >= floor)) flagged |= 1u << (axes.x + 2 * axes.y + 4 * axes.z);
+          const float kept = octree::reconstructed_distance(sum, f(q), floor, float(h));
+          if ((kept < 0) != (sum < 0) || !(std::abs(sum) >= floor)) flagged |= 1u << s;
         }
     for (int s = 1; s < 8; ++s) {
       if (flagged & (1u << s)) out.emplace_back(pack(brick), pack(brick + glm::ivec3(s & 1, (s >> 1) & 1, s >> 2)));

@@ -232,10 +232,7 @@ class MeshSource : public SurfaceSource {
   // index: faces stored with vertices of their own (a box of six separate
   // grids) still meet at their shared edges, which are creases, not rims.
   void find_open_sides() {
-    if (mesh_.welded.size() != mesh_.positions.size()) {  // not from make_triangle_mesh: by index
-      mesh_.welded.resize(mesh_.positions.size());
-      std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
-    }
+    ensure_welded();
     const std::vector<uint32_t>& id = mesh_.welded;
     auto key = [&](int a, int b) { return mesh_.edge_key(a, b); };
     std::unordered_map<uint64_t, uint32_t> uses;
@@ -264,12 +261,17 @@ class MeshSource : public SurfaceSource {
     return *winding_;
   }
 
+  // TriangleMesh::welded, by index where the mesh did not come from
+  // make_triangle_mesh.
+  void ensure_welded() {
+    if (mesh_.welded.size() == mesh_.positions.size()) return;
+    mesh_.welded.resize(mesh_.positions.size());
+    std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
+  }
+
   // The faces around each edge and each corner, by position (welded).
   void find_neighbours() {
-    if (mesh_.welded.size() != mesh_.positions.size()) {
-      mesh_.welded.resize(mesh_.positions.size());
-      std::iota(mesh_.welded.begin(), mesh_.welded.end(), 0u);
-    }
+    ensure_welded();
     uint32_t ids = 0;
     for (uint32_t w : mesh_.welded) ids = std::max(ids, w + 1);
     corner_first_.assign(size_t(ids) + 1, 0);

@@ -28,15 +28,21 @@ struct LatticeSource {
   uint32_t depth = 0;      // depth of p (and of the brick)
 };
 
-// |hbar| / voxel of a lattice point whose footprint (a box of one voxel) may
-// hold the surface: the mean plane passes through the box, at most half its
-// diagonal from the centre (sqrt(3) / 2).
-constexpr float kMayHoldSurface = 0.8660254f;
-
 // The smallest distance magnitude of a reconstructed lattice point at
 // `depth` (octree.h): max(voxel_size(depth) / 2 - h, h / 2), h the finest
 // voxel size, scene units.
 float reconstruction_floor(const Octree& tree, uint32_t depth);
+
+// The distance reconstruction of octree.h, in two parts, for the source
+// (voxelizer) and the reader alike. A point whose owner is absent, with S
+// its axes on the upper faces (bits x = 1, y = 2, z = 4) and q = p - e_S:
+// - extrapolation_weight(S, t): the weight of the stored distance at
+//   q - e_t (t a subset of S) in the extrapolation, the product over the
+//   axes of S of 2 (a not in t) or -1 (a in t); 0 when t is not in S.
+// - reconstructed_distance: what the rule keeps of the extrapolation, given
+//   the distance at q, the floor and the depth's voxel size.
+double extrapolation_weight(uint32_t axes, uint32_t t);
+float reconstructed_distance(double extrapolated, float nearest, float floor, float voxel);
 
 // The source of lattice point `p` (0 <= p <= brick_size << depth per axis) at
 // `depth`: the owner's stored sample; for a point of a stored brick's closed
