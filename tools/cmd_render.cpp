@@ -52,6 +52,7 @@ struct RenderArgs {
   bool keep_back_facing = false;
   bool shared_normal = false;
   bool shade_at_axis = false;
+  bool unsplit_creases = false;
   float shading_voxel = 1.0f;
   uint32_t lens_parts = 0;
   std::string device;
@@ -183,6 +184,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
                 "Prefiltered: shade every element where the cone's axis meets its mean plane, with the whole "
                 "footprint's spread (default: at the centre of the part of the footprint it covers first, with that "
                 "part's spread)")
+      ->group(kAdvanced);
+  cmd->add_flag("--unsplit-creases", a->unsplit_creases,
+                "Prefiltered: shade a part of the footprint across which the normal turns fast (a crease) at one "
+                "point, with one lobe about the mean normal (default: as its two halves across the turn, averaged; "
+                "one lobe draws a glint along creases that neither face has)")
       ->group(kAdvanced);
   cmd->add_option("--lens-parts", a->lens_parts,
                   "With --dof: split the lens into N x N parts, a cone each, averaged, at about N^2 the cost (0: "
@@ -333,6 +339,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     settings.front_facing = !a->keep_back_facing;
     settings.element_normals = !a->shared_normal;
     settings.covered_part = !a->shade_at_axis;
+    settings.crease_split = !a->unsplit_creases;
     settings.shading_voxel = a->shading_voxel;
     settings.lens_parts = a->lens_parts;
     settings.shadows = a->view.shadows;
@@ -457,6 +464,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
           {"front_facing", settings.front_facing},
           {"element_normals", settings.element_normals},
           {"covered_part", settings.covered_part},
+          {"crease_split", settings.crease_split},
           {"shading_voxel", settings.shading_voxel},
           {"lens_parts", render::lens_parts(tree, settings)},
           {"lights", lights_json(settings.lights)},

@@ -282,7 +282,8 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
                        (s.curved_masks ? svo::math::SVO_FLAG_CURVED_MASKS : 0u) |
                        (s.front_facing ? svo::math::SVO_FLAG_FRONT_FACING : 0u) |
                        (s.element_normals ? svo::math::SVO_FLAG_ELEMENT_NORMALS : 0u) |
-                       (s.covered_part ? svo::math::SVO_FLAG_COVERED_PART : 0u));
+                       (s.covered_part ? svo::math::SVO_FLAG_COVERED_PART : 0u) |
+                       (s.crease_split ? svo::math::SVO_FLAG_CREASE_SPLIT : 0u));
   p.tree = glm::uvec4(tree.brick_size, tree.depth_count, s.max_steps, uint32_t(s.lights.size()));
   p.pool = glm::uvec4(packed.brick_bytes, 0, 0, 0);
   p.offsets_a = packed.offsets_a;

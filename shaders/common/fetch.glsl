@@ -236,6 +236,7 @@ SVO_FN SvoNormalAlong svo_sample_normal_along(SvoCell cell, vec3 p, vec3 q, bool
 struct SvoShadingSample {
   SvoVoxel v;
   mat3 dn;  // column a: the normal's change along world axis a, per scene unit; zero unless `jacobian`
+  float agree;  // the least cosine between corner 0's normal and another corner's (1 without normals)
 };
 // With `toward` (unit, towards the eye; zero: off), the shading fields
 // (normal, slope covariance, colours) leave out the corners whose normal
@@ -361,6 +362,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
   }
   sharpen *= 1.0f - clamp(apart / SVO_PLANE_GAP - 1.0f, 0.0f, 1.0f);
+  r.agree = agree;
   bool finest = sharpen > 0.0f && normal && agree < 0.996f;
   float hp = finest ? svo_sample_distance(cell, p) : 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the
@@ -424,6 +426,7 @@ SVO_FN SvoShadingSample svo_shading_sample_blend(SvoShadingSample a, SvoShadingS
   SvoShadingSample r;
   r.v = svo_voxel_madd(svo_voxel_scaled(a.v, 1.0f - w), b.v, w);
   r.dn = mat3(mix(a.dn[0], b.dn[0], w), mix(a.dn[1], b.dn[1], w), mix(a.dn[2], b.dn[2], w));
+  r.agree = min(a.agree, b.agree);
   return r;
 }
 

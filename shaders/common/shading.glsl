@@ -70,123 +70,117 @@ struct SvoShade {
   uint steps;            // shadow cone elements
 };
 
-// Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
-// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
-// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
-// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
-// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
-// slope variance 0.02 (tests/reference/detail_test.cpp).
-SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart part) {
+// What svo_shade_attributes leaves besides the voxel: the footprint's
+// spread it added (the specular lobe takes it again) and the normal's
+// derivatives.
+struct SvoShadeAttributes {
+  vec3 footprint;
+  mat3 dn;
+  float agree;  // SvoShadingSample::agree
+};
+
+// The shading attributes at ps (on the element's mean plane) into m.v, for
+// the footprint part of covariance `spread` (in cone radii); n_centre: the
+// element's own normal.
+SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, vec3 view, uint mode, vec3 spread_part,
+                                               vec3 n_centre) {
   vec3 dir = -view;
-  vec3 footprint = vec3(0.0f);  // the footprint's half share not in m.v.cov (the specular lobe's)
   bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
-  // A cone with a footprint (rays of raymarch mode have none).
+  bool footprinted = filtered && m.radius > 1.0e-6f * params.domain.w;
+  SvoShadeAttributes r;
+  r.footprint = vec3(0.0f);
+  // Prefiltered mode shades from a finer level than occlusion reads: the
+  // one whose voxel is params.shading.x cone radii (default 1, where
+  // occlusion reads sqrt(2)). A level's value spreads over its voxel's
+  // box (variance s^2 / 12 per axis) and the trilinear tent (s^2 / 6), in
+  // all s^2 / 4, the footprint disk's r^2 / 4 at s = r; at sqrt(2) r shading
+  // was blurred twice over (docs/RESULTS.md, "Shading the part of the
+  // footprint each element covers"). Finer still, a point sample of the
+  // normal field aliases bumps smaller than the footprint into sparkle
+  // (Fig. 12). Occlusion keeps the coarser level: finer, a footprint
+  // whose centre lies in an empty node loses the surface beside it.
+  SvoCell lo = m.lo_cell;
+  SvoCell hi = m.hi_cell;
+  uint depth = lo.depth;
+  float blend = m.blend;
+  if (mode == SVO_MODE_PREFILTERED) {
+    float df = svo_level_of_voxel(params.shading.x * m.radius);
+    depth = uint(floor(df));
+    blend = df - float(depth);
+  }
+  if (!svo_cell_holds(lo, ps, depth)) lo = svo_lookup(ps, depth);
+  if (blend > 0.0f && !svo_cell_holds(hi, ps, depth + 1u)) hi = svo_lookup(ps, depth + 1u);
+  if (lo.brick != SVO_ABSENT && (blend == 0.0f || hi.brick != SVO_ABSENT)) {
+    m.p = ps;
+    m.lo_cell = lo;
+    m.hi_cell = hi;
+    m.blend = blend;
+  }
+  bool detail = svo_draws_detail(m.radius);
+  uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
+  // The attributes and, for the footprint's spread below, the normal's
+  // derivatives, from one fetch of each level's corners.
+  bool spread = footprinted && params.material.w > 0.0f;
+  vec3 toward = filtered ? view : vec3(0.0f);
+  SvoShadingSample sampled =
+      svo_sample_shading(m.lo_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.lo_cell, m.radius));
+  if (m.blend > 0.0f) {
+    sampled = svo_shading_sample_blend(
+        sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.hi_cell, m.radius)),
+        m.blend);
+  }
+  SvoVoxel a = sampled.v;
+  // A cone's elements see different parts of a wide footprint: along a
+  // grazing cone each element's bits are where the surface meets it, near
+  // its own centre, not at the point the elements share. Cones of at least
+  // about a finest voxel (full weight from r = 0.75 voxel) take half their
+  // normal from the element's centre, where svo_step found it: relMSE of
+  // the far views 0.000289 to 0.000272 (bumpy sphere) and 0.000166 to
+  // 0.000134 (bunny), before G1 below; all of it, the sphere's went up to
+  // 0.000362. Finer cones keep the shared point (their elements' normals
+  // would band).
+  if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
+    a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
+  }
+  // Only cones have a footprint to spread over. The specular
+  // lobe takes all of the spread, the rest (Lambert, masking) half: a
+  // Gaussian's tails reach farther than the bounded spread of normals
+  // over a pixel, past the terminator (with one weight for every term,
+  // the bumpy sphere's far view was at 0.000345 with 0.5 and 0.000442
+  // with 1; docs/RESULTS.md, "The far view after four additions").
+  float na = length(a.n);
+  if (footprinted && params.material.w > 0.0f && na > 0.0f) {
+    r.footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, spread_part, sampled.dn);
+    a.cov += r.footprint;
+  }
+  if (detail) {
+    // The octaves drawn here leave the statistics: their slope and height
+    // variances and their share of the colour-height covariance; the
+    // colour follows the drawn height instead (detail.glsl).
+    SvoDetail d = svo_trace_detail();
+    vec4 g = svo_detail_displacement(d, m.p, m.radius, params.detail_colour.w);
+    vec2 moved = svo_detail_moved_variance(d, m.radius, params.detail_colour.w);
+    vec3 slope = vec3(params.detail_colour);
+    a.n = svo_detail_tilt(a.n, vec3(g));
+    a.cov -= vec3(moved.y, moved.y, 0.0f);
+    a.a_s = svo_detail_fold_a_s(a.a_s, a.sh2, -moved.x, slope);
+    a.abar += slope * g.w;
+  }
+  m.v.n = a.n;
+  m.v.cov = a.cov;
+  m.v.abar = a.abar;
+  m.v.a_s = a.a_s;
+  r.dn = sampled.dn;
+  r.agree = sampled.agree;
+  return r;
+}
+
+// The lights on m's attributes (m.v, m.p): paper Eq. 13 (see svo_shade).
+SVO_FN SvoShade svo_shade_lights(SVO_IN(SvoMarch) m, vec3 view, uint mode, vec3 footprint) {
+  bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
   bool footprinted = filtered && m.radius > 1.0e-6f * params.domain.w;
   SvoShade s;
   s.steps = 0u;
-  if (mode != SVO_MODE_NEAREST) {
-    // The shading attributes where the ray through the centre of `part`
-    // meets the element's mean plane. For the whole footprint that is the
-    // axis, so that the elements of one cone that see the same plane shade
-    // the same point: sampled at each element's centre, a narrow specular
-    // lobe would change from element to element and show their boundaries
-    // as bands along the surface's contours. For the part an element
-    // covers first (prefiltered mode), the elements of a grazing cone,
-    // each of which covers a band of the footprint, shade their own bands:
-    // together they integrate the footprint where a tilted surface spans
-    // several elements.
-    vec3 n_centre = m.v.n;
-    float nl0 = length(m.v.n);
-    float reach = 2.0f * max(m.radius, 0.25f * params.material.z);
-    vec3 nu = nl0 > 0.0f ? m.v.n / nl0 : vec3(0.0f);
-    float nd = dot(nu, dir);
-    SvoFrame across = svo_tangent_frame(dir);
-    vec3 offset = m.radius * (part.centre.x * across.t + part.centre.y * across.b);
-    float h0 = m.v.hbar + dot(nu, offset);
-    float along = abs(nd) * reach > abs(h0) ? -h0 / nd : (h0 * nd > 0.0f ? -reach : reach);
-    vec3 ps = m.p + offset + dir * along;
-    // Prefiltered mode shades from a finer level than occlusion reads: the
-    // one whose voxel is params.shading.x cone radii (default 1, where
-    // occlusion reads sqrt(2)). A level's value spreads over its voxel's
-    // box (variance s^2 / 12 per axis) and the trilinear tent (s^2 / 6), in
-    // all s^2 / 4, the footprint disk's r^2 / 4 at s = r; at sqrt(2) r shading
-    // was blurred twice over (docs/RESULTS.md, "Shading the part of the
-    // footprint each element covers"). Finer still, a point sample of the
-    // normal field aliases bumps smaller than the footprint into sparkle
-    // (Fig. 12). Occlusion keeps the coarser level: finer, a footprint
-    // whose centre lies in an empty node loses the surface beside it.
-    SvoCell lo = m.lo_cell;
-    SvoCell hi = m.hi_cell;
-    uint depth = lo.depth;
-    float blend = m.blend;
-    if (mode == SVO_MODE_PREFILTERED) {
-      float df = svo_level_of_voxel(params.shading.x * m.radius);
-      depth = uint(floor(df));
-      blend = df - float(depth);
-    }
-    if (!svo_cell_holds(lo, ps, depth)) lo = svo_lookup(ps, depth);
-    if (blend > 0.0f && !svo_cell_holds(hi, ps, depth + 1u)) hi = svo_lookup(ps, depth + 1u);
-    if (lo.brick != SVO_ABSENT && (blend == 0.0f || hi.brick != SVO_ABSENT)) {
-      m.p = ps;
-      m.lo_cell = lo;
-      m.hi_cell = hi;
-      m.blend = blend;
-    }
-    bool detail = svo_draws_detail(m.radius);
-    uint parts = SVO_PART_SHADING | SVO_PART_NORMAL | (detail ? SVO_PART_HEIGHT : 0u);
-    // The attributes and, for the footprint's spread below, the normal's
-    // derivatives, from one fetch of each level's corners.
-    bool spread = footprinted && params.material.w > 0.0f;
-    vec3 toward = filtered ? view : vec3(0.0f);
-    SvoShadingSample sampled =
-        svo_sample_shading(m.lo_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.lo_cell, m.radius));
-    if (m.blend > 0.0f) {
-      sampled = svo_shading_sample_blend(
-          sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.hi_cell, m.radius)),
-          m.blend);
-    }
-    SvoVoxel a = sampled.v;
-    // A cone's elements see different parts of a wide footprint: along a
-    // grazing cone each element's bits are where the surface meets it, near
-    // its own centre, not at the point the elements share. Cones of at least
-    // about a finest voxel (full weight from r = 0.75 voxel) take half their
-    // normal from the element's centre, where svo_step found it: relMSE of
-    // the far views 0.000289 to 0.000272 (bumpy sphere) and 0.000166 to
-    // 0.000134 (bunny), before G1 below; all of it, the sphere's went up to
-    // 0.000362. Finer cones keep the shared point (their elements' normals
-    // would band).
-    if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
-      a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
-    }
-    // Only cones have a footprint to spread over. The specular
-    // lobe takes all of the spread, the rest (Lambert, masking) half: a
-    // Gaussian's tails reach farther than the bounded spread of normals
-    // over a pixel, past the terminator (with one weight for every term,
-    // the bumpy sphere's far view was at 0.000345 with 0.5 and 0.000442
-    // with 1; docs/RESULTS.md, "The far view after four additions").
-    float na = length(a.n);
-    if (footprinted && params.material.w > 0.0f && na > 0.0f) {
-      footprint = 0.5f * svo_footprint_slope_covariance(m, dir, a.n / na, na, part.spread, sampled.dn);
-      a.cov += footprint;
-    }
-    if (detail) {
-      // The octaves drawn here leave the statistics: their slope and height
-      // variances and their share of the colour-height covariance; the
-      // colour follows the drawn height instead (detail.glsl).
-      SvoDetail d = svo_trace_detail();
-      vec4 g = svo_detail_displacement(d, m.p, m.radius, params.detail_colour.w);
-      vec2 moved = svo_detail_moved_variance(d, m.radius, params.detail_colour.w);
-      vec3 slope = vec3(params.detail_colour);
-      a.n = svo_detail_tilt(a.n, vec3(g));
-      a.cov -= vec3(moved.y, moved.y, 0.0f);
-      a.a_s = svo_detail_fold_a_s(a.a_s, a.sh2, -moved.x, slope);
-      a.abar += slope * g.w;
-    }
-    m.v.n = a.n;
-    m.v.cov = a.cov;
-    m.v.abar = a.abar;
-    m.v.a_s = a.a_s;
-  }
   float nl = length(m.v.n);
   vec3 n = nl > 0.0f ? m.v.n / nl : view;
   // A surface the eye sees faces it: a mean normal turned away (a thin
@@ -252,6 +246,105 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   s.t = f.t;
   s.slope_cov = cov + footprint;
   s.a_s = m.v.a_s;
+  return s;
+}
+
+// Where svo_shade splits a part of the footprint at a crease: the corners'
+// normals lie more than acos(SVO_CREASE_APART), 37 degrees, apart, and the
+// normal turns by more than SVO_CREASE_TURN radians over twice the part's
+// standard deviation along the turn, and the footprint's radius is at
+// least SVO_CREASE_FOOTPRINT finest voxels (finer, the planes' weights of
+// svo_sample_shading draw the crease sharp already: split there, the
+// oblique box edge of tests/reference/crease_test.cpp, 7 pixels a voxel,
+// went from 6 to 9 pixels off). Its halves are shaded at
+// SVO_CREASE_OFFSET standard deviations either side of its centre, wider
+// than the halves' centroids (0.85): the lattice rounds a crease over a
+// voxel, and the wider points reach its faces' normals. Chosen on eight
+// libcgal-demo meshes at 128^3 (docs/RESULTS.md, "Creases shaded as two
+// halves"): a turn of 0.3 radians drew about as well, 0.6 left up to 4x
+// the pixels off; an offset of 1.0 or 2.0 left more pixels off on 7 of 8.
+SVO_CONST float SVO_CREASE_APART = 0.8f;
+SVO_CONST float SVO_CREASE_TURN = 0.15f;
+SVO_CONST float SVO_CREASE_OFFSET = 1.5f;
+SVO_CONST float SVO_CREASE_FOOTPRINT = 0.25f;
+
+// Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
+// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
+// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
+// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
+// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
+// slope variance 0.02 (tests/reference/detail_test.cpp).
+SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart part) {
+  if (mode == SVO_MODE_NEAREST) return svo_shade_lights(m, view, mode, vec3(0.0f));
+  vec3 dir = -view;
+  // The shading attributes where the ray through the centre of `part`
+  // meets the element's mean plane. For the whole footprint that is the
+  // axis, so that the elements of one cone that see the same plane shade
+  // the same point: sampled at each element's centre, a narrow specular
+  // lobe would change from element to element and show their boundaries
+  // as bands along the surface's contours. For the part an element
+  // covers first (prefiltered mode), the elements of a grazing cone,
+  // each of which covers a band of the footprint, shade their own bands:
+  // together they integrate the footprint where a tilted surface spans
+  // several elements.
+  vec3 n_centre = m.v.n;
+  float nl0 = length(m.v.n);
+  float reach = 2.0f * max(m.radius, 0.25f * params.material.z);
+  vec3 nu = nl0 > 0.0f ? m.v.n / nl0 : vec3(0.0f);
+  float nd = dot(nu, dir);
+  SvoFrame across = svo_tangent_frame(dir);
+  vec3 offset = m.radius * (part.centre.x * across.t + part.centre.y * across.b);
+  float h0 = m.v.hbar + dot(nu, offset);
+  float along = abs(nd) * reach > abs(h0) ? -h0 / nd : (h0 * nd > 0.0f ? -reach : reach);
+  vec3 ps = m.p + offset + dir * along;
+  // A crease across the part (SVO_CREASE_APART, SVO_CREASE_TURN). One Gaussian
+  // lobe about the mean normal cannot hold two faces' normals: halfway
+  // between them it drew a glint brighter than either face along every
+  // crease (libcgal-demo's cube, fandisk, pinion). The part is shaded as
+  // its two halves across the turn instead, each at its own point with its
+  // own attributes, and averaged; the G-buffer keeps the whole part's.
+  // Smooth surfaces keep one sample: their spread is the lobe's (the bumpy
+  // sphere's far view, whose bumps turn the normal as fast, lost 12% with
+  // every fast turn split). One loop shades the part (j = 0) and then its
+  // halves: a second copy of the shading made lavapipe's kernel 30% slower
+  // where no part was split.
+  SvoShade s;
+  vec3 radiance = vec3(0.0f);
+  uint count = 1u;
+  vec3 q = vec3(0.0f);
+  vec3 spread = part.spread;
+  for (uint j = 0u; j < count; ++j) {
+    vec3 pj = j == 0u ? ps : ps + (j == 1u ? -1.0f : 1.0f) * q;
+    SvoShadeAttributes at = svo_shade_attributes(m, pj, view, mode, spread, n_centre);
+    if (j == 0u) {
+      float na = length(m.v.n);
+      if ((params.image.w & SVO_FLAG_CREASE_SPLIT) != 0u && mode == SVO_MODE_PREFILTERED &&
+          params.material.w > 0.0f && m.radius > SVO_CREASE_FOOTPRINT * params.material.z && na > 0.0f &&
+          at.agree < SVO_CREASE_APART) {
+        vec3 nh = m.v.n / na;
+        float dn = dot(dir, nh);
+        dn = dn >= 0.0f ? max(dn, 0.2f) : min(dn, -0.2f);
+        vec3 q1 = (across.t - (dot(across.t, nh) / dn) * dir) * sqrt(max(part.spread.x, 0.0f));
+        vec3 q2 = (across.b - (dot(across.b, nh) / dn) * dir) * sqrt(max(part.spread.y, 0.0f));
+        float c1 = length(at.dn * q1);
+        float c2 = length(at.dn * q2);
+        if (2.0f * m.radius * max(c1, c2) / max(na, 0.5f) > SVO_CREASE_TURN) {
+          bool first = c1 >= c2;
+          q = SVO_CREASE_OFFSET * m.radius * (first ? q1 : q2);
+          spread = first ? vec3(0.25f, 1.0f, 0.5f) * part.spread : vec3(1.0f, 0.25f, 0.5f) * part.spread;
+          count = 3u;
+        }
+      }
+    }
+    SvoShade sj = svo_shade_lights(m, view, mode, at.footprint);
+    if (j == 0u) {
+      s = sj;
+    } else {
+      radiance += 0.5f * sj.radiance;
+      s.steps += sj.steps;
+    }
+  }
+  if (count > 1u) s.radiance = radiance;
   return s;
 }
 

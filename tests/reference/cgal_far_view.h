@@ -18,6 +18,8 @@ namespace svo::reference {
 struct FarFrames {
   render::Frame ours;   // the native host's frame
   render::Frame truth;  // the reference at the same camera and lights
+  octree::Octree tree;  // what `ours` drew, with `settings`
+  render::RenderSettings settings;
 };
 
 // data/meshes/`mesh` voxelized at `resolution`, its far preset at `size` x
@@ -37,6 +39,8 @@ inline FarFrames cgal_far_view(const std::string& mesh, uint32_t resolution, uin
   if (cli_lights) s.lights = render::default_lights(s.camera);
   FarFrames f;
   f.ours = render::render_cpu(tree, s);
+  f.tree = tree;
+  f.settings = s;
   ReferenceSettings rs;
   rs.render = s;
   rs.spp = spp;
