@@ -236,7 +236,7 @@ SVO_FN SvoNormalAlong svo_sample_normal_along(SvoCell cell, vec3 p, vec3 q, bool
 struct SvoShadingSample {
   SvoVoxel v;
   mat3 dn;  // column a: the normal's change along world axis a, per scene unit; zero unless `jacobian`
-  float agree;  // the least cosine between corner 0's normal and another corner's (1 without normals)
+  float faces;  // the least cosine between two normals each held by two corners (flat faces'); 1 with fewer than two
 };
 // With `toward` (unit, towards the eye; zero: off), the shading fields
 // (normal, slope covariance, colours) leave out the corners whose normal
@@ -326,11 +326,17 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   // too (tests/reference/crease_test.cpp, docs/RESULTS.md "Creases").
   vec3 front = vec3(0.0f);
   float agree = 1.0f;
+  // Flat faces among the corners: a normal two corners hold (`face`, the
+  // first such), and the least cosine between two of them (`faces`).
+  vec3 face = vec3(0.0f);
+  float faces = 1.0f;
   float apart = 0.0f;
   if (normal) {
     float best = -2.0f;
     vec3 n0 = vec3(0.0f);
     vec3 n1 = vec3(0.0f);
+    vec3 previous = vec3(0.0f);
+    vec3 other = vec3(0.0f);  // the first normal that is not corner 0's
     float d0 = 0.0f;
     float d1 = 0.0f;
     for (uint k = 0u; k < 8u; ++k) {
@@ -338,6 +344,15 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
       vec3 n = svo_fetch_normal(cell.brick, s);
       if (k == 0u) n0 = n;
       agree = min(agree, dot(n, n0));
+      if (k > 0u) {
+        float same = max(max(dot(n, previous), dot(n, n0)), dot(n, other));
+        if (same > 0.99999f) {
+          if (dot(face, face) == 0.0f) face = n;
+          faces = min(faces, dot(n, face));
+        }
+        if (dot(other, other) == 0.0f && dot(n, n0) <= 0.99999f) other = n;
+      }
+      previous = n;
       float f = dot(n, toward);
       if (f > best) {
         best = f;
@@ -362,7 +377,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
   }
   sharpen *= 1.0f - clamp(apart / SVO_PLANE_GAP - 1.0f, 0.0f, 1.0f);
-  r.agree = agree;
+  r.faces = faces;
   bool finest = sharpen > 0.0f && normal && agree < 0.996f;
   float hp = finest ? svo_sample_distance(cell, p) : 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the
@@ -426,7 +441,7 @@ SVO_FN SvoShadingSample svo_shading_sample_blend(SvoShadingSample a, SvoShadingS
   SvoShadingSample r;
   r.v = svo_voxel_madd(svo_voxel_scaled(a.v, 1.0f - w), b.v, w);
   r.dn = mat3(mix(a.dn[0], b.dn[0], w), mix(a.dn[1], b.dn[1], w), mix(a.dn[2], b.dn[2], w));
-  r.agree = min(a.agree, b.agree);
+  r.faces = min(a.faces, b.faces);
   return r;
 }
 

@@ -76,7 +76,7 @@ struct SvoShade {
 struct SvoShadeAttributes {
   vec3 footprint;
   mat3 dn;
-  float agree;  // SvoShadingSample::agree
+  float faces;  // SvoShadingSample::faces
 };
 
 // The shading attributes at ps (on the element's mean plane) into m.v, for
@@ -171,7 +171,7 @@ SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, v
   m.v.abar = a.abar;
   m.v.a_s = a.a_s;
   r.dn = sampled.dn;
-  r.agree = sampled.agree;
+  r.faces = sampled.faces;
   return r;
 }
 
@@ -249,14 +249,15 @@ SVO_FN SvoShade svo_shade_lights(SVO_IN(SvoMarch) m, vec3 view, uint mode, vec3 
   return s;
 }
 
-// Where svo_shade splits a part of the footprint at a crease: the corners'
-// normals lie more than acos(SVO_CREASE_APART), 37 degrees, apart, and the
-// normal turns by more than SVO_CREASE_TURN radians over twice the part's
-// standard deviation along the turn, and the footprint's radius is at
-// least SVO_CREASE_FOOTPRINT finest voxels (finer, the planes' weights of
-// svo_sample_shading draw the crease sharp already: split there, the
-// oblique box edge of tests/reference/crease_test.cpp, 7 pixels a voxel,
-// went from 6 to 9 pixels off). Its halves are shaded at
+// Where svo_shade splits a part of the footprint at a crease: two flat
+// faces meet there at more than acos(SVO_CREASE_APART), 37 degrees (two of
+// the corners hold one face's normal, two another's: svo_sample_shading's
+// `faces`), the normal turns by more than SVO_CREASE_TURN radians over
+// twice the part's standard deviation along the turn, and the footprint's
+// radius is at least SVO_CREASE_FOOTPRINT finest voxels (finer, the planes'
+// weights of svo_sample_shading draw the crease sharp already: split
+// there, the oblique box edge of tests/reference/crease_test.cpp, 7 pixels
+// a voxel, went from 6 to 9 pixels off). Its halves are shaded at
 // SVO_CREASE_OFFSET standard deviations either side of its centre, wider
 // than the halves' centroids (0.85): the lattice rounds a crease over a
 // voxel, and the wider points reach its faces' normals. Chosen on eight
@@ -300,16 +301,27 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   // A crease across the part (SVO_CREASE_APART, SVO_CREASE_TURN). One Gaussian
   // lobe about the mean normal cannot hold two faces' normals: halfway
   // between them it drew a glint brighter than either face along every
-  // crease (libcgal-demo's cube, fandisk, pinion). The part is shaded as
-  // its two halves across the turn instead, each at its own point with its
-  // own attributes, and averaged; the G-buffer keeps the whole part's.
-  // Smooth surfaces keep one sample: their spread is the lobe's (the bumpy
-  // sphere's far view, whose bumps turn the normal as fast, lost 12% with
-  // every fast turn split). One loop shades the part (j = 0) and then its
-  // halves: a second copy of the shading made lavapipe's kernel 30% slower
-  // where no part was split.
+  // crease (libcgal-demo's cube, octahedron, fandisk, pinion). The part is
+  // shaded as its two halves across the turn instead, each at its own
+  // point with its own attributes; the G-buffer keeps the whole part's.
+  // Averaged, the halves darkened the lit face beside a crease off the
+  // part's centre (hedra, pyramid: -0.4 to -0.6 dB); weighted by where the
+  // part's own normal lies between theirs, they gained there too.
+  // Smooth surfaces keep one sample: their spread is the lobe's. Split
+  // wherever the corners lay 37 degrees apart, the bumpy sphere lost 16%
+  // (relMSE, 128^3, the whole domain's far view of
+  // tests/reference/far_view_test.cpp), its bumps turning the corners'
+  // normals up to 78 degrees apart; split where one flat face's normal
+  // showed twice, the armadillo's toes' highlights dimmed (one pixel off by
+  // more than 0.25 in tests/reference/specks_test.cpp). One loop shades the
+  // part (j = 0) and then its halves: a second copy of the shading made
+  // lavapipe's kernel 30% slower where no part was split.
   SvoShade s;
-  vec3 radiance = vec3(0.0f);
+  vec3 n_part = vec3(0.0f);   // the unit normals of the part and of its halves,
+  vec3 n_minus = vec3(0.0f);  // and the halves' radiance
+  vec3 n_plus = vec3(0.0f);
+  vec3 l_minus = vec3(0.0f);
+  vec3 l_plus = vec3(0.0f);
   uint count = 1u;
   vec3 q = vec3(0.0f);
   vec3 spread = part.spread;
@@ -320,7 +332,7 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
       float na = length(m.v.n);
       if ((params.image.w & SVO_FLAG_CREASE_SPLIT) != 0u && mode == SVO_MODE_PREFILTERED &&
           params.material.w > 0.0f && m.radius > SVO_CREASE_FOOTPRINT * params.material.z && na > 0.0f &&
-          at.agree < SVO_CREASE_APART) {
+          at.faces < SVO_CREASE_APART) {
         vec3 nh = m.v.n / na;
         float dn = dot(dir, nh);
         dn = dn >= 0.0f ? max(dn, 0.2f) : min(dn, -0.2f);
@@ -337,14 +349,29 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
       }
     }
     SvoShade sj = svo_shade_lights(m, view, mode, at.footprint);
+    float nl = length(m.v.n);
+    vec3 nj = nl > 0.0f ? m.v.n / nl : vec3(0.0f);
     if (j == 0u) {
       s = sj;
+      n_part = nj;
     } else {
-      radiance += 0.5f * sj.radiance;
+      if (j == 1u) {
+        n_minus = nj;
+        l_minus = sj.radiance;
+      } else {
+        n_plus = nj;
+        l_plus = sj.radiance;
+      }
       s.steps += sj.steps;
     }
   }
-  if (count > 1u) s.radiance = radiance;
+  if (count > 1u) {
+    // Each half by how near the part's normal lies to its own: where the
+    // crease is off the part's centre, the centre lies on one face.
+    vec3 turn = n_minus - n_plus;
+    float w = clamp(dot(n_part - n_plus, turn) / max(dot(turn, turn), 1.0e-6f), 0.0f, 1.0f);
+    s.radiance = w * l_minus + (1.0f - w) * l_plus;
+  }
   return s;
 }
 
