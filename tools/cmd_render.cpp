@@ -187,8 +187,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->group(kAdvanced);
   cmd->add_flag("--unsplit-creases", a->unsplit_creases,
                 "Prefiltered: shade a part of the footprint across which the normal turns fast (a crease) at one "
-                "point, with one lobe about the mean normal (default: as its two halves across the turn, averaged; "
-                "one lobe draws a glint along creases that neither face has)")
+                "point, with one lobe about the mean normal (default: as its two halves across the turn, weighted by "
+                "where its own normal lies between theirs; one lobe draws a glint along creases that neither face has)")
       ->group(kAdvanced);
   cmd->add_option("--lens-parts", a->lens_parts,
                   "With --dof: split the lens into N x N parts, a cone each, averaged, at about N^2 the cost (0: "

@@ -113,11 +113,10 @@ INSTANTIATE_TEST_SUITE_P(Meshes, CreaseSweep,
 // glint the reference does not have: libcgal-demo's cube, octahedron,
 // cross, fandisk). Prefiltered shading splits a part of the footprint
 // across such a crease into two halves, weighted by where the crease lies
-// (svo_shade). The measure: pixels
-// fully covered in both images brighter than the reference's brightest by
-// more than 0.05; and the pixels away from silhouettes off by more than
-// 0.25. The same octree drawn with one lobe (crease_split off) shows that
-// the measure sees the glint.
+// (svo_shade). The measure: pixels fully covered in both images brighter
+// than the reference's brightest by more than 0.05; and the pixels away
+// from silhouettes off by more than 0.25. The same octree drawn with one
+// lobe (crease_split off) shows that the measure sees the glint.
 struct GlintCase {
   const char* mesh;
   size_t max_glints;
@@ -156,8 +155,9 @@ TEST_P(CreaseGlint, NoCreaseIsBrighterThanItsFaces) {
 }
 
 // Measured: cube 0 glints (one lobe 16), 58 pixels off (98); octahedron 2
-// (40), 2 (60): two of its crease's cells hold only one flat face's normal
-// twice, the others the edge's fan, and keep one lobe (svo_shade).
+// (40), 2 (60). Split where one flat face's normal showed twice (not two
+// faces'), the octahedron drew 0 and 1, but the armadillo's toes dimmed
+// (Specks.NoneBesideTheArmadillosThinFeatures).
 INSTANTIATE_TEST_SUITE_P(Meshes, CreaseGlint,
                          ::testing::Values(GlintCase{"cube_quad.off", 0, 66}, GlintCase{"octahedron.off", 3, 6}),
                          [](const auto& info) { return std::string(info.param.mesh).substr(0, 4); });

@@ -90,9 +90,10 @@ struct RenderSettings {
   // spread (tracer.glsl, svo_footprint_part). false: at the cone's axis,
   // with the whole footprint's spread.
   bool covered_part = true;
-  // Prefiltered mode: a part of the footprint across which the normal
-  // turns fast (a crease) is shaded as its two halves, averaged (svo_shade).
-  // false: at one point, with one lobe.
+  // Prefiltered mode: a part of the footprint across a crease (two flat
+  // faces, the normal turning fast) is shaded as its two halves, weighted
+  // by where its own normal lies between theirs (svo_shade). false: at one
+  // point, with one lobe.
   bool crease_split = true;
   // Prefiltered mode: the voxel size, in cone radii, of the level shading
   // reads (occlusion reads sqrt(2) radii). In [0.25, 4].
