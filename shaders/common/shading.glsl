@@ -8,6 +8,24 @@
 #include "trig.glsl"
 #include "visibility.glsl"
 
+// The footprint's axes (the cone frame's t and b, per unit of offset
+// across the cone) carried along the ray onto the plane of unit normal nh,
+// stretched by 1 / |d.n|, at most 1 / 0.2.
+struct SvoFootprintAxes {
+  vec3 q1;
+  vec3 q2;
+};
+SVO_FN SvoFootprintAxes svo_footprint_axes(vec3 dir, vec3 nh) {
+  const float min_cosine = 0.2f;
+  SvoFrame across = svo_tangent_frame(dir);
+  float dn = dot(dir, nh);
+  dn = dn >= 0.0f ? max(dn, min_cosine) : min(dn, -min_cosine);
+  SvoFootprintAxes a;
+  a.q1 = across.t - (dot(across.t, nh) / dn) * dir;
+  a.q2 = across.b - (dot(across.b, nh) / dn) * dir;
+  return a;
+}
+
 // The normals' spread over the part of the surface the cone's footprint
 // covers, as slope covariance (xx, yy, xy) in the tangent frame of the unit
 // mean normal nh (n_length: the interpolated normal's length). A cone
@@ -24,12 +42,9 @@
 // field at m.p, its levels blended as m's (svo_sample_shading).
 SVO_FN vec3 svo_footprint_slope_covariance(SVO_IN(SvoMarch) m, vec3 dir, vec3 nh, float n_length, vec3 spread,
                                            mat3 jacobian) {
-  const float min_cosine = 0.2f;
-  SvoFrame across = svo_tangent_frame(dir);
-  float dn = dot(dir, nh);
-  dn = dn >= 0.0f ? max(dn, min_cosine) : min(dn, -min_cosine);
-  vec3 q1 = across.t - (dot(across.t, nh) / dn) * dir;
-  vec3 q2 = across.b - (dot(across.b, nh) / dn) * dir;
+  SvoFootprintAxes axes = svo_footprint_axes(dir, nh);
+  vec3 q1 = axes.q1;
+  vec3 q2 = axes.q2;
   SvoNormalChange g;
   g.d1 = jacobian * q1;
   g.d2 = jacobian * q2;
@@ -175,7 +190,12 @@ SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, v
   return r;
 }
 
-// The lights on m's attributes (m.v, m.p): paper Eq. 13 (see svo_shade).
+// The lights on m's attributes (m.v, m.p), paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
+// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
+// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
+// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
+// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
+// slope variance 0.02 (tests/reference/detail_test.cpp).
 SVO_FN SvoShade svo_shade_lights(SVO_IN(SvoMarch) m, vec3 view, uint mode, vec3 footprint) {
   bool filtered = mode == SVO_MODE_PREFILTERED || mode == SVO_MODE_ALPHA;
   bool footprinted = filtered && m.radius > 1.0e-6f * params.domain.w;
@@ -262,19 +282,17 @@ SVO_FN SvoShade svo_shade_lights(SVO_IN(SvoMarch) m, vec3 view, uint mode, vec3 
 // than the halves' centroids (0.85): the lattice rounds a crease over a
 // voxel, and the wider points reach its faces' normals. Chosen on eight
 // libcgal-demo meshes at 128^3 (docs/RESULTS.md, "Creases shaded as two
-// halves"): a turn of 0.3 radians drew about as well, 0.6 left up to 4x
-// the pixels off; an offset of 1.0 or 2.0 left more pixels off on 7 of 8.
+// halves", with the halves averaged): a turn of 0.3 radians drew about as
+// well, 0.6 left up to 4x the pixels off; an offset of 1.0 or 2.0 left
+// more pixels off on 7 of 8.
 SVO_CONST float SVO_CREASE_APART = 0.8f;
 SVO_CONST float SVO_CREASE_TURN = 0.15f;
 SVO_CONST float SVO_CREASE_OFFSET = 1.5f;
 SVO_CONST float SVO_CREASE_FOOTPRINT = 0.25f;
 
-// Paper Eq. 13 for the element: sum over lights of E_l abar(v, l) rho(v, l)
-// (l . nbar) V(l), rho Lambertian plus a Beckmann lobe whose variance is
-// sigma_n^2 + sigma_rho^2; mip and nearest use abar and sigma_rho^2 only.
-// The Lambertian part's l . nbar becomes the mean cosine over the voxel's
-// slopes (svo_rough_lambert): l . nbar alone is 2-3% bright on surfaces of
-// slope variance 0.02 (tests/reference/detail_test.cpp).
+// One cone element shaded: the attributes where it meets its mean plane
+// (svo_shade_attributes), then the lights on them (svo_shade_lights); a
+// part across a crease as its two halves.
 SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart part) {
   if (mode == SVO_MODE_NEAREST) return svo_shade_lights(m, view, mode, vec3(0.0f));
   vec3 dir = -view;
@@ -310,8 +328,9 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
   // Smooth surfaces keep one sample: their spread is the lobe's. Split
   // wherever the corners lay 37 degrees apart, the bumpy sphere lost 16%
   // (relMSE, 128^3, the whole domain's far view of
-  // tests/reference/far_view_test.cpp), its bumps turning the corners'
-  // normals up to 78 degrees apart; split where one flat face's normal
+  // tests/reference/far_view_test.cpp), its bumps setting corners'
+  // normals up to about 70 degrees apart (with 53 and 66 degrees as the
+  // bound it still lost 3% and 0.6%); split where one flat face's normal
   // showed twice, the armadillo's toes' highlights dimmed (one pixel off by
   // more than 0.25 in tests/reference/specks_test.cpp). One loop shades the
   // part (j = 0) and then its halves: a second copy of the shading made
@@ -333,11 +352,9 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
       if ((params.image.w & SVO_FLAG_CREASE_SPLIT) != 0u && mode == SVO_MODE_PREFILTERED &&
           params.material.w > 0.0f && m.radius > SVO_CREASE_FOOTPRINT * params.material.z && na > 0.0f &&
           at.faces < SVO_CREASE_APART) {
-        vec3 nh = m.v.n / na;
-        float dn = dot(dir, nh);
-        dn = dn >= 0.0f ? max(dn, 0.2f) : min(dn, -0.2f);
-        vec3 q1 = (across.t - (dot(across.t, nh) / dn) * dir) * sqrt(max(part.spread.x, 0.0f));
-        vec3 q2 = (across.b - (dot(across.b, nh) / dn) * dir) * sqrt(max(part.spread.y, 0.0f));
+        SvoFootprintAxes axes = svo_footprint_axes(dir, m.v.n / na);
+        vec3 q1 = axes.q1 * sqrt(max(part.spread.x, 0.0f));
+        vec3 q2 = axes.q2 * sqrt(max(part.spread.y, 0.0f));
         float c1 = length(at.dn * q1);
         float c2 = length(at.dn * q2);
         if (2.0f * m.radius * max(c1, c2) / max(na, 0.5f) > SVO_CREASE_TURN) {
@@ -349,8 +366,11 @@ SVO_FN SvoShade svo_shade(SvoMarch m, vec3 view, uint mode, SvoFootprintPart par
       }
     }
     SvoShade sj = svo_shade_lights(m, view, mode, at.footprint);
-    float nl = length(m.v.n);
-    vec3 nj = nl > 0.0f ? m.v.n / nl : vec3(0.0f);
+    vec3 nj = vec3(0.0f);
+    if (count > 1u) {
+      float nl = length(m.v.n);
+      if (nl > 0.0f) nj = m.v.n / nl;
+    }
     if (j == 0u) {
       s = sj;
       n_part = nj;

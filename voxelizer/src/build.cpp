@@ -247,9 +247,9 @@ struct Builder {
   // points where the rule (octree::reconstructed_distance) decides the side
   // against the extrapolation or on weak evidence (it falls short of the
   // floor) are flagged (brick, owner), to be stored with their exact
-  // values: fandisk at 256^3 gains
-  // 145 bricks (4%), and no face point of the finest depth is rebuilt on
-  // the wrong side (tests/voxelizer/faces_test.cpp).
+  // values: fandisk at 256^3 gains 145 bricks (4%), and no face point of
+  // the finest depth is rebuilt on the wrong side
+  // (tests/voxelizer/faces_test.cpp).
   void flag_unsure_faces(glm::ivec3 brick, const std::vector<FinePoint>& points,
                          std::vector<std::pair<Key, Key>>& out) const {
     const int b = int(B), limit = int(N / B);
