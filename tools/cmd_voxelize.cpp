@@ -55,7 +55,8 @@ void add_voxelize_command(CLI::App& app, int& exit_code) {
       "accessors), or an OpenVDB level set (.vdb: a float grid of class level set, --grid NAME when there are "
       "several; its narrow band is resampled to the lattice). A mesh with holes is drawn as a solid when they are "
       "small (the generalized winding number is within 0.05 of 0 and 1 on 95% of its area), else two-sided, a "
-      "thin shell around every triangle, as svo reference shows it; a warning says which. Refused: polygons of "
+      "thin shell around every triangle, as svo reference shows it (inside the volume where the triangle bounds "
+      "one by the winding number, so that the surface does not swell); a warning says which. Refused: polygons of "
       "more than 1000 corners, more than 100 million triangles, face indices that name no vertex, coordinates that "
       "are not finite or beyond 1e15, a bounding box below 1e-12, an mtllib file or texture that is not a regular "
       "file");

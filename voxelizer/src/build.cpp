@@ -42,6 +42,7 @@ struct Level {
   std::unordered_map<Key, uint32_t> filled;  // lattice key -> index into stats
   std::vector<octree::Voxel> stats;  // one-sided: two_sided() applies where `sheet` says, when bricks are filled
   std::vector<uint8_t> sheet;        // per stats entry: a sheet of an open surface, drawn two-sided
+  std::vector<float> offset;         // per stats entry of a sheet: where its shell lies (SurfaceSample::offset)
   std::unordered_set<Key> bricks;
 };
 
@@ -186,10 +187,10 @@ struct Builder {
               // A sheet's samples are the lattice points within h/2 of the
               // sheet itself, on either side, with its own orientation.
               if (p.near && (p.sheet >= 0 ? p.sheet : std::abs(p.distance)) <= 0.5f * h) {
-                found.push_back(
-                    {pack({x, y, z}),
-                     {p.closest, p.sheet >= 0 ? p.sheet_normal : p.normal, p.colour, p.material, p.sheet >= 0}});
-              } else if (p.near && p.sheet >= 0 && p.sheet <= kShellFaceReach * h) {
+                found.push_back({pack({x, y, z}),
+                                 {p.closest, p.sheet >= 0 ? p.sheet_normal : p.normal, p.colour, p.material,
+                                  p.sheet >= 0, p.sheet_offset}});
+              } else if (p.near && p.sheet >= 0 && p.distance <= 0.5f * h) {  // inside the shell or near its faces
                 shell_points_local.local().push_back(pack({x, y, z}));
               }
             }
@@ -300,14 +301,17 @@ struct Builder {
       for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
       level.stats.resize(starts.size() - 1);
       level.sheet.assign(starts.size() - 1, 0);
+      level.offset.assign(starts.size() - 1, 0.0f);
       tbb::parallel_for(size_t(0), starts.size() - 1, [&](size_t g) {
         glm::ivec3 k = unpack(keyed[starts[g]].first);
         glm::vec3 centre(lattice.origin + glm::dvec3(k) * level.voxel);
         const auto indices = std::span(order).subspan(starts[g], starts[g + 1] - starts[g]);
         level.stats[g] = surface_statistics(samples, indices, centre);
         size_t sheets = 0;
-        for (uint32_t i : indices) sheets += samples[i].sheet;
+        double offset = 0;
+        for (uint32_t i : indices) sheets += samples[i].sheet, offset += samples[i].sheet ? samples[i].offset : 0.0;
         level.sheet[g] = 2 * sheets > indices.size();
+        if (sheets) level.offset[g] = float(offset / double(sheets));
       });
       level.filled.reserve(starts.size());
       for (size_t g = 0; g + 1 < starts.size(); ++g) {
@@ -315,11 +319,13 @@ struct Builder {
         level.filled.emplace(key, uint32_t(g));
         add_bricks_holding(unpack(key), int(B), int(level.cells / B), level.bricks);
         if (!level.sheet[g]) continue;
-        // A sheet's shell reaches a voxel beyond it: the bricks of the
-        // lattice points around it too (their values come from the
-        // sheet's plane, fill_bricks), as at the finest level.
-        for (int n = 0; n < 27; ++n) {
-          const glm::ivec3 q = unpack(key) + glm::ivec3(n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1);
+        // A sheet's shell reaches a voxel beyond it, two behind it where it
+        // lies inside a volume (SurfaceSample::offset): the bricks of the
+        // lattice points around it too (their values come from the sheet's
+        // plane, fill_bricks), as at the finest level.
+        const int r = level.offset[g] > 0 ? 2 : 1, w = 2 * r + 1;
+        for (int n = 0; n < w * w * w; ++n) {
+          const glm::ivec3 q = unpack(key) + glm::ivec3(n % w - r, (n / w) % w - r, n / (w * w) - r);
           if (glm::all(glm::greaterThanEqual(q, glm::ivec3(0))) &&
               glm::all(glm::lessThanEqual(q, glm::ivec3(int(level.cells))))) {
             add_bricks_holding(q, int(B), int(level.cells / B), level.bricks);
@@ -529,9 +535,11 @@ struct Builder {
                 octree::Voxel v;
                 int32_t self = filled_at(x, y, z);
                 bool sheet = false;
+                float offset = 0;
                 if (self >= 0) {
                   v = level.stats[size_t(self)];
                   sheet = level.sheet[size_t(self)];
+                  offset = level.offset[size_t(self)];
                 } else {
                   // No surface in the footprint: attributes from filled neighbours,
                   // the distance from their planes, never below the footprint's half size.
@@ -540,6 +548,7 @@ struct Builder {
                   sum.abar = glm::vec3(0);
                   float hsum = 0;
                   int count = 0, sheets = 0;
+                  float offsets = 0;
                   for (int k = 0; k < 27; ++k) {
                     glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
                     int32_t nb = k == 13 ? -1 : filled_at(x + o.x, y + o.y, z + o.z);
@@ -553,6 +562,7 @@ struct Builder {
                     sum.a_s += u.a_s;
                     v.material = u.material;
                     sheets += level.sheet[size_t(nb)];
+                    offsets += level.sheet[size_t(nb)] ? level.offset[size_t(nb)] : 0.0f;
                     ++count;
                   }
                   if (count) {
@@ -567,9 +577,14 @@ struct Builder {
                     if (2 * sheets > count) {
                       // The neighbours' planes, extrapolated, say where the
                       // sheet is; drawn two-sided, no footprint without
-                      // surface is nearer than floor_distance.
-                      v = two_sided(v, float(level.voxel));
-                      v.hbar = std::max(v.hbar, floor_distance);
+                      // surface is nearer than floor_distance. A centred
+                      // shell is outside there (it would swell by as much);
+                      // one inside a volume keeps its inside, where its
+                      // outer face is the volume's.
+                      const float offset = offsets / float(sheets);
+                      v = two_sided(v, float(level.voxel), offset);
+                      if (offset < 0.5f || v.hbar >= 0) v.hbar = std::max(v.hbar, floor_distance);
+                      else v.hbar = std::min(v.hbar, -floor_distance);
                     }
                   } else {
                     // Nothing in the 27 footprints around: at least 1.5 voxels away.
@@ -592,8 +607,10 @@ struct Builder {
                       float e = u.hbar + float(glm::dot(glm::dvec3(u.nbar), at - glm::dvec3(q) * coarse.voxel));
                       glm::vec3 n = u.nbar;
                       if (coarse.sheet[it->second]) {  // the coarser sheet's shell, from this point's side
+                        const float half = 0.5f * kShellVoxels * float(coarse.voxel);
+                        e += coarse.offset[it->second] * half;
                         if (e < 0) e = -e, n = -n;
-                        e -= 0.5f * kShellVoxels * float(coarse.voxel);
+                        e -= half;
                       }
                       v.nbar = n;
                       v.abar = u.abar;
@@ -603,7 +620,7 @@ struct Builder {
                     }
                   }
                 }
-                if (sheet) v = two_sided(v, float(level.voxel));
+                if (sheet) v = two_sided(v, float(level.voxel), offset);
                 octree::encode_pool_voxel(tree, pool_sample(j, x, y, z), job.depth, v);
               }
         }

@@ -936,7 +936,8 @@ TriangleMesh make_triangle_mesh(const std::string& path, MeshArrays in, const Me
     decided =
         "not a closed manifold surface (" + std::to_string(out.open_edges) + " open edges, " +
         std::to_string(out.nonmanifold_edges) + " non-manifold edges): " +
-        (out.two_sided ? "drawn two-sided, as a thin shell around every triangle; "
+        (out.two_sided ? "drawn two-sided, as a thin shell around every triangle (inside the volume where it "
+                         "bounds one); "
                        : "its holes are small: drawn as a solid, inside and outside from OpenVDB's flood fill; ") +
         why;
   }

@@ -2,6 +2,7 @@
 // The mesh itself is read by mesh_read.cpp.
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -57,7 +58,7 @@ glm::dvec3 closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
 class MeshSource : public SurfaceSource {
  public:
   explicit MeshSource(TriangleMesh mesh) : mesh_(std::move(mesh)) {
-    if (open_) find_open_sides();
+    if (open_) find_open_sides(), find_neighbours(), find_shell_offsets();
   }
 
   Box bounds() const override { return mesh_.bounds; }
@@ -138,26 +139,44 @@ class MeshSource : public SurfaceSource {
               // An open surface: a thin shell around each triangle, so that
               // both of its sides are drawn (as the reference's double-sided
               // triangles are) and no point needs an inside.
-              // - Its normal is the face's, turned to the point's side; where
-              //   the closest point lies on an edge or a corner, the
-              //   distance's gradient, which turns around the edge. The
-              //   face's normal there flipped between neighbouring lattice
-              //   points and notched the rim of the lion's open back.
+              // - Where the triangle bounds a volume (find_shell_offsets),
+              //   the shell lies inside it, its outer face on the triangle;
+              //   on a sheet it is centred on the triangle.
+              // - Its normal is the face's, turned away from the shell's
+              //   middle; where the closest point lies on an edge or a
+              //   corner, the distance's gradient, which turns around the
+              //   edge. The face's normal there flipped between neighbouring
+              //   lattice points and notched the rim of the lion's open back.
               // - At an open edge the shell ends in a flat cap through the
               //   edge, across the sheet, instead of the half cylinder that
               //   |d| - half draws a half width beyond it: rims and the
               //   sheet's silhouettes stay where the reference draws them.
-              point.sheet = float(exact);
-              point.sheet_normal = point.normal;
-              const double half = 0.5 * kShellVoxels * h;
-              point.distance = point.near ? float(exact - half) : band;
-              const glm::dvec3 n(point.normal), off = p - c;
+              const double offset = shell_offset_[size_t(tri)];
+              const glm::dvec3 n = (offset < 0 ? -1.0 : 1.0) * glm::dvec3(point.normal);  // outward, where it bounds a volume
+              const double half = 0.5 * kShellVoxels * h, shift = std::abs(offset) * half;
+              const glm::dvec3 off = p - c;
               const double across = glm::dot(off, n);
-              point.normal = glm::vec3(across < 0 ? -n : n);
-              if (exact > 1e-3 * h && std::min({bary.x, bary.y, bary.z}) <= 0) {
-                point.normal = glm::vec3(off / exact);
+              const bool on_edge = exact > 1e-3 * h && std::min({bary.x, bary.y, bary.z}) <= 0;
+              // Which side of the triangle p lies on: on an edge or a corner,
+              // by the features around it where they say (side_of), since
+              // beside a sharp convex edge `across` can be negative outside.
+              int side = across < 0 ? -1 : 1;
+              if (on_edge && shift > 0) {
+                if (const int s = side_of(p, c, size_t(tri), bary); s != 0) side = offset < 0 ? -s : s;
+              }
+              const double middle = double(side) * exact + shift;  // signed, from the shell's middle plane
+              point.sheet = float(exact);
+              point.sheet_normal = glm::vec3(n);
+              point.sheet_offset = float(std::abs(offset));
+              // Beyond the band, the shell's faces are at least band - half
+              // - shift away: a march that steps by the distance must not
+              // step through the inner face of a shell inside a volume.
+              point.distance = float(point.near ? std::abs(middle) - half : band - half - shift);
+              const glm::dvec3 gradient = on_edge ? double(side) * off / exact : n;  // of the signed distance
+              point.normal = glm::vec3(middle < 0 ? -gradient : gradient);
+              if (on_edge) {
                 const glm::dvec3 beyond = off - across * n;  // in the sheet's plane, away from the edge
-                const double out = glm::length(beyond), above = std::abs(across) - half;
+                const double out = glm::length(beyond), above = std::abs(across + shift) - half;
                 if (point.near && out > 1e-3 * h && on_open_side(size_t(tri), bary)) {
                   point.distance = float(above <= 0 ? out : std::hypot(out, above));
                 }
@@ -185,6 +204,8 @@ class MeshSource : public SurfaceSource {
             }
           } else {
             float magnitude = std::max(std::abs(d), band);
+            // A shell's faces lie up to half + shift inside its triangles.
+            if (open_) magnitude -= float(0.5 * kShellVoxels * h * (1.0 + max_shell_offset_));
             const bool inside = !open_ && (voxels < 0 || (voxels == -background));
             point.distance = inside ? -magnitude : magnitude;
           }
@@ -224,6 +245,8 @@ class MeshSource : public SurfaceSource {
                      std::to_string(int(std::lround(100 * share))) + "% of " + std::to_string(checked) +
                      " points checked against the winding number disagree): drawn two-sided instead";
     find_open_sides();
+    find_neighbours();
+    find_shell_offsets();
   }
 
   // Per triangle, bit i: the edge opposite corner i is open (no other
@@ -253,6 +276,34 @@ class MeshSource : public SurfaceSource {
     for (size_t f = 0; f < mesh_.triangles.size(); ++f)
       for (int i = 0; i < 3; ++i)
         if (open_corners.count(id[size_t(mesh_.triangles[f][i])])) open_sides_[f] |= uint8_t(8u << i);
+  }
+
+  // Per triangle of a surface drawn two-sided, where its shell lies: the
+  // generalized winding number jumps by 1 through every triangle; halfway
+  // through, m = w(in front) + 1/2 is near 1/2 where the triangle bounds a
+  // volume behind its face (a scan with holes: the lion's face), near -1/2
+  // where it bounds one in front (a piece wound inside out), and near 0 on
+  // a sheet (both sides outside). The shell of a triangle that bounds a
+  // volume lies inside it, its outer face on the triangle, so that the
+  // surface does not swell by half the shell's width where the reference
+  // draws it; a sheet's shell is centred on it. The offset is signed (+:
+  // inside is behind the face), its magnitude the share of the half width
+  // the shell moves, ramped over |m| from 0.15 to 0.35.
+  void find_shell_offsets() {
+    shell_offset_.assign(mesh_.triangles.size(), 0.0f);
+    const WindingNumber& w = winding();
+    const glm::dvec3 extent = glm::dvec3(mesh_.bounds.hi) - glm::dvec3(mesh_.bounds.lo);
+    const double probe = 1e-6 * glm::length(extent);
+    tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t t) {
+      const glm::ivec3 i = mesh_.triangles[t];
+      const auto& v = mesh_.positions;
+      const glm::dvec3 centre = (v[size_t(i.x)] + v[size_t(i.y)] + v[size_t(i.z)]) / 3.0;
+      const double m = w(centre + probe * glm::dvec3(mesh_.face_normals[t])) + 0.5;
+      const double strength = std::clamp((std::abs(m) - 0.15) / 0.2, 0.0, 1.0);
+      shell_offset_[t] = float(m < 0 ? -strength : strength);
+    });
+    max_shell_offset_ = 0;
+    for (float o : shell_offset_) max_shell_offset_ = std::max(max_shell_offset_, double(std::abs(o)));
   }
 
   // The winding number of the mesh, made on first use. Thread-safe.
@@ -349,6 +400,8 @@ class MeshSource : public SurfaceSource {
   // Drawn as shells; OpenVDB's sign (a flood-fill guess there) is unused.
   bool open_ = mesh_.two_sided;
   std::vector<uint8_t> open_sides_;  // find_open_sides()
+  std::vector<float> shell_offset_;  // find_shell_offsets()
+  double max_shell_offset_ = 0;      // the largest |shell_offset_|
   std::vector<uint32_t> corner_first_, corner_faces_;  // find_neighbours()
   mutable std::once_flag winding_once_;
   mutable std::unique_ptr<WindingNumber> winding_;

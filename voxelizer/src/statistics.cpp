@@ -106,7 +106,9 @@ octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::sp
   return v;
 }
 
-octree::Voxel two_sided(octree::Voxel v, float voxel) {
+octree::Voxel two_sided(octree::Voxel v, float voxel, float offset) {
+  const float half = 0.5f * kShellVoxels * voxel;
+  v.hbar += offset * half;  // from the shell's middle
   if (v.hbar < 0) {
     // Slopes s' of the turned normals in the frame of -nbar: s' = A s with
     // A = -[[t.t2, b.t2], [t.b2, b.b2]] (frames of nbar and -nbar); the
@@ -121,7 +123,7 @@ octree::Voxel two_sided(octree::Voxel v, float voxel) {
     v.hbar = -v.hbar;
     v.a_s = -v.a_s;
   }
-  v.hbar -= 0.5f * kShellVoxels * voxel;
+  v.hbar -= half;
   return v;
 }
 

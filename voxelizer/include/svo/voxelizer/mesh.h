@@ -116,6 +116,8 @@ struct TriangleMesh {
   // 0.05 of 0 and 1 on either side of less than kClosedShare of its area
   // (elsewhere its holes take up more than 5% of the sphere: the lidless box
   // and the lion's open head, not the Chinese dragon's six open edges).
+  // Where a triangle bounds a volume by the winding number, its shell lies
+  // inside that volume, its outer face on the triangle (mesh_source.cpp).
   // Else a solid (OpenVDB's flood fill decides inside and outside).
   bool two_sided = false;
   // What was decided about inside and outside, and why, one line

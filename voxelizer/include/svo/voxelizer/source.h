@@ -41,9 +41,11 @@ constexpr float kBandVoxels = 3.0f;
 // the interpolation always dips below zero.
 constexpr float kShellVoxels = 2.0f;
 // How far from a sheet, in voxels, a lattice point still matters: within
-// half a voxel of the shell's outer faces. Every brick holding such a point
-// is stored (and the mesh's candidate bricks reach that far).
-constexpr float kShellFaceReach = 0.5f * kShellVoxels + 0.5f;
+// half a voxel of the shell's faces, which lie up to kShellVoxels from it
+// where the shell lies on one side (FinePoint::sheet_offset). Every brick
+// holding such a point is stored (and the mesh's candidate bricks reach
+// that far).
+constexpr float kShellFaceReach = kShellVoxels + 0.5f;
 
 struct FinePoint {
   float distance = 0;          // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
@@ -58,9 +60,12 @@ struct FinePoint {
   // gradient: it faces the point's side, and turns around the sheet's
   // boundary edges), `sheet` the unsigned distance to the triangle itself
   // and `sheet_normal` the triangle's own normal, which coarser levels
-  // average.
+  // average; where the triangle bounds a volume, the normal points out of
+  // it and the shell lies inside, its middle `sheet_offset` (0 to 1) of
+  // half the shell's width behind the triangle (1: its outer face on it).
   float sheet = -1;
   glm::vec3 sheet_normal{0, 0, 1};
+  float sheet_offset = 0;
 };
 
 class SurfaceSource {

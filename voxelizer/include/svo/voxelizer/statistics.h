@@ -20,6 +20,7 @@ struct SurfaceSample {
   glm::vec3 colour;
   uint32_t material = 0;
   bool sheet = false;  // of an open surface, drawn two-sided (FinePoint::sheet)
+  float offset = 0;    // where its shell lies (FinePoint::sheet_offset)
 };
 
 // Statistics of `samples[indices]` for a voxel centred at `centre`:
@@ -41,10 +42,11 @@ octree::Voxel surface_statistics(std::span<const SurfaceSample> samples, std::sp
 
 // The statistics `v` of a voxel (at `centre` of lattice spacing `voxel`)
 // whose surface is a sheet drawn two-sided, as the finest level draws it: a
-// shell 1.5 `voxel` thick around the mean plane, seen from the centre's
-// side. Where the centre lies behind the plane, the normal turns around
-// (slopes, their covariance and the colour-height correlation with it);
-// hbar becomes the distance to the shell's near face.
-octree::Voxel two_sided(octree::Voxel v, float voxel);
+// shell kShellVoxels `voxel` thick whose middle lies `offset` (0 to 1) of
+// its half width behind the mean plane (FinePoint::sheet_offset), seen from
+// the centre's side. Where the centre lies behind the shell's middle, the
+// normal turns around (slopes, their covariance and the colour-height
+// correlation with it); hbar becomes the distance to the shell's near face.
+octree::Voxel two_sided(octree::Voxel v, float voxel, float offset = 0);
 
 }  // namespace svo::voxelizer
