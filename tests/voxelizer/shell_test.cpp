@@ -18,6 +18,18 @@
 namespace svo {
 namespace {
 
+// The cube [-0.5, 0.5]^3 without its top (z = 0.5): five 5 x 5 grids,
+// wound outwards.
+voxelizer::MeshArrays lidless_cube() {
+  voxelizer::MeshArrays m;
+  test::add_grid(m, {-.5, -.5, -.5}, {0, 1, 0}, {1, 0, 0}, 5);  // bottom (z = -0.5)
+  test::add_grid(m, {-.5, -.5, -.5}, {1, 0, 0}, {0, 0, 1}, 5);
+  test::add_grid(m, {-.5, .5, -.5}, {0, 0, 1}, {1, 0, 0}, 5);
+  test::add_grid(m, {-.5, -.5, -.5}, {0, 0, 1}, {0, 1, 0}, 5);
+  test::add_grid(m, {.5, -.5, -.5}, {0, 1, 0}, {0, 0, 1}, 5);
+  return m;
+}
+
 // A square sheet over [-1, 1]^2 in x and y, tilted: z = kSlope x. Its height
 // sweeps 2.8 finest voxels across the domain at 64^3, so it passes every
 // phase between lattice planes, those beside a brick's face included.
@@ -106,19 +118,14 @@ TEST(OpenShell, EndsInACapAtTheOpenEdge) {
 namespace svo {
 namespace {
 
-// A cube of five 5 x 5 grids and a top whose middle quad is missing: a hole
+// The lidless cube and a top whose middle quad is missing: a hole
 // 0.2 wide, small by the winding number (a solid), but 11 voxels wide at
 // 64^3, through which OpenVDB's flood fill leaks: inside and outside would
 // swap over whole regions (libcgal-demo's blob was a moire of dots). The
 // voxelizer checks the fill against the winding number and draws the mesh
 // two-sided instead, and says so.
 TEST(OpenShell, FloodFillLeakingThroughSmallHolesDrawsTwoSided) {
-  voxelizer::MeshArrays m;
-  test::add_grid(m, {-.5, -.5, -.5}, {0, 1, 0}, {1, 0, 0}, 5);  // bottom (z = -0.5), outward
-  test::add_grid(m, {-.5, -.5, -.5}, {1, 0, 0}, {0, 0, 1}, 5);
-  test::add_grid(m, {-.5, .5, -.5}, {0, 0, 1}, {1, 0, 0}, 5);
-  test::add_grid(m, {-.5, -.5, -.5}, {0, 0, 1}, {0, 1, 0}, 5);
-  test::add_grid(m, {.5, -.5, -.5}, {0, 1, 0}, {0, 0, 1}, 5);
+  voxelizer::MeshArrays m = lidless_cube();
   voxelizer::MeshArrays top;
   test::add_grid(top, {-.5, -.5, .5}, {1, 0, 0}, {0, 1, 0}, 5);
   const int base = int(m.positions.size());
@@ -160,7 +167,7 @@ TEST(OpenShell, FloodFillLeakingThroughSmallHolesDrawsTwoSided) {
 namespace svo {
 namespace {
 
-// A box without its lid, 1 x 1 x 1 at 64^3: the hole is a sixth of its
+// The lidless cube at 64^3: the hole is a sixth of its
 // surface, so it is drawn two-sided, but by the winding number its walls
 // bound a volume (the box's inside). Their shell lies inside that volume:
 // its outer face on the wall, where the reference draws it, its inner face
@@ -168,13 +175,7 @@ namespace {
 // every outer face, and so the silhouette, a voxel too far out: libcgal-
 // demo's lion, pig and mannequin at 128^3 lost 6-12 dB of PSNR to it.
 TEST(OpenShell, LiesInsideTheVolumeItsTrianglesBound) {
-  voxelizer::MeshArrays m;
-  test::add_grid(m, {-.5, -.5, -.5}, {0, 1, 0}, {1, 0, 0}, 4);  // bottom (z = -0.5), outward
-  test::add_grid(m, {-.5, -.5, -.5}, {1, 0, 0}, {0, 0, 1}, 4);
-  test::add_grid(m, {-.5, .5, -.5}, {0, 0, 1}, {1, 0, 0}, 4);
-  test::add_grid(m, {-.5, -.5, -.5}, {0, 0, 1}, {0, 1, 0}, 4);
-  test::add_grid(m, {.5, -.5, -.5}, {0, 1, 0}, {0, 0, 1}, 4);
-  voxelizer::TriangleMesh mesh = voxelizer::make_triangle_mesh("lidless.obj", std::move(m));
+  voxelizer::TriangleMesh mesh = voxelizer::make_triangle_mesh("lidless.obj", lidless_cube());
   ASSERT_TRUE(mesh.two_sided) << mesh.surface;
   const octree::Octree tree = test::voxelize_mesh(std::move(mesh), 64);
   const uint32_t D = tree.depth_count - 1;

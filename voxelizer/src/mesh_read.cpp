@@ -639,11 +639,13 @@ TriangleMesh read_mesh(const std::string& path, const MeshOptions& options) {
 namespace {
 
 // What the generalized winding number says of a surface, from at most 2048
-// triangles spread over it (area-weighted): the share of its area whose
-// winding number crosses 1/2 through it (it bounds a volume; the rest is a
-// sheet, both sides inside or both outside), and the share where it goes
-// from within 0.05 of 0 to within 0.05 of 1 (a closed surface gives 0 and 1
-// everywhere; from there, the holes take up less than 5% of the sphere).
+// triangles spread over it (area-weighted): the share of its area that
+// bounds a volume (bounds_volume: the winding number goes from near 0 to
+// near 1 or -1 through it; the rest is a sheet, both sides outside; the
+// shell of a surface drawn two-sided lies inside that volume), and the
+// share where it goes from within 0.05 of 0 to within 0.05 of 1 (a closed
+// surface gives 0 and 1 everywhere; from there, the holes take up less
+// than 5% of the sphere).
 struct WindingShares {
   double bounds_volume = 0;
   double closed = 0;
@@ -664,7 +666,7 @@ WindingShares winding_shares(const TriangleMesh& mesh) {
     // The jump through the triangle is 1: its middle says it all.
     const double middle = 0.5 * (winding(centre + probe * n) + winding(centre - probe * n));
     total += area;
-    if (std::abs(middle - 0.5) < 0.25) shares.bounds_volume += area;
+    shares.bounds_volume += area * bounds_volume(middle);
     if (std::abs(middle - 0.5) < 0.05) shares.closed += area;
   }
   if (total > 0) shares.bounds_volume /= total, shares.closed /= total;

@@ -288,7 +288,7 @@ class MeshSource : public SurfaceSource {
   // surface does not swell by half the shell's width where the reference
   // draws it; a sheet's shell is centred on it. The offset is signed (+:
   // inside is behind the face), its magnitude the share of the half width
-  // the shell moves, ramped over |m| from 0.15 to 0.35.
+  // the shell moves (bounds_volume, mesh.h).
   void find_shell_offsets() {
     shell_offset_.assign(mesh_.triangles.size(), 0.0f);
     const WindingNumber& w = winding();
@@ -299,7 +299,7 @@ class MeshSource : public SurfaceSource {
       const auto& v = mesh_.positions;
       const glm::dvec3 centre = (v[size_t(i.x)] + v[size_t(i.y)] + v[size_t(i.z)]) / 3.0;
       const double m = w(centre + probe * glm::dvec3(mesh_.face_normals[t])) + 0.5;
-      const double strength = std::clamp((std::abs(m) - 0.15) / 0.2, 0.0, 1.0);
+      const double strength = bounds_volume(m);
       shell_offset_[t] = float(m < 0 ? -strength : strength);
     });
     max_shell_offset_ = 0;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <glm/vec2.hpp>
@@ -68,6 +69,15 @@ inline constexpr double kMaxCoordinate = 1e15;
 // Share of a surface's area that must look closed to the winding number for
 // a surface with holes to be drawn as a solid (TriangleMesh::two_sided).
 inline constexpr double kClosedShare = 0.95;
+
+// How surely a triangle of a surface drawn two-sided bounds a volume, from
+// m = w + 1/2, w the generalized winding number just in front of it (the
+// middle of the jump of 1 through it): near 1/2 it bounds one behind its
+// face, near -1/2 one in front (a piece wound inside out), near 0 it is a
+// sheet (both sides outside). 0 to 1, ramped over |m| from 0.15 to 0.35:
+// how far its shell moves into the volume (mesh_source.cpp), and the share
+// of the area that `surface` says bounds a volume.
+inline double bounds_volume(double m) { return std::clamp((std::abs(m) - 0.15) / 0.2, 0.0, 1.0); }
 
 // Largest texture read by default (MeshOptions::max_texture_pixels):
 // 8192^2 texels of at most 4 channels, twice the budget's square root a
