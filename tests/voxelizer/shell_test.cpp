@@ -112,12 +112,6 @@ TEST(OpenShell, EndsInACapAtTheOpenEdge) {
   EXPECT_GT(checked, 20);
 }
 
-}  // namespace
-}  // namespace svo
-
-namespace svo {
-namespace {
-
 // The lidless cube and a top whose middle quad is missing: a hole
 // 0.2 wide, small by the winding number (a solid), but 11 voxels wide at
 // 64^3, through which OpenVDB's flood fill leaks: inside and outside would
@@ -160,12 +154,6 @@ TEST(OpenShell, FloodFillLeakingThroughSmallHolesDrawsTwoSided) {
   }
   EXPECT_GT(checked, 100);
 }
-
-}  // namespace
-}  // namespace svo
-
-namespace svo {
-namespace {
 
 // The lidless cube at 64^3: the hole is a sixth of its
 // surface, so it is drawn two-sided, but by the winding number its walls
