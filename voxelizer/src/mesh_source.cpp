@@ -67,8 +67,8 @@ class MeshSource : public SurfaceSource {
   std::vector<std::string> materials() const override { return mesh_.materials; }
   std::string surface() const override { return mesh_.surface; }
   bool two_sided() const override { return mesh_.two_sided; }
-  // Narrow band of 3 voxels each side, float distance + int32 polygon index, tree overhead.
-  double bytes_per_sample() const override { return 6 * (4 + 4) * 1.5; }
+  // OpenVDB's narrow band each side, float distance + int32 polygon index, tree overhead.
+  double bytes_per_sample() const override { return 2 * vdb_band_voxels() * (4 + 4) * 1.5; }
 
   void prepare(const Lattice& lattice) override {
     static std::once_flag once;
@@ -90,8 +90,8 @@ class MeshSource : public SurfaceSource {
     for (const auto& t : mesh_.triangles) tris.emplace_back(uint32_t(t.x), uint32_t(t.y), uint32_t(t.z));
     openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
     index_ = openvdb::Int32Grid::create(-1);
-    distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, kBandVoxels, kBandVoxels, 0,
-                                                                 index_.get());
+    distance_ = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *transform_, vdb_band_voxels(),
+                                                                 vdb_band_voxels(), 0, index_.get());
     if (!open_ && (mesh_.open_edges || mesh_.nonmanifold_edges)) check_flood_fill();
     if (!open_) find_neighbours();
   }
@@ -110,6 +110,9 @@ class MeshSource : public SurfaceSource {
     auto dist = distance_->getConstAccessor();
     auto index = index_->getConstAccessor();
     const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
+    // Of an open surface, the distance to the shell from the closest
+    // triangle reaches as far as OpenVDB's band (beyond `band`, not near).
+    const float reach = open_ ? std::min(vdb_band_voxels() * float(lattice_.voxel), near_within) : band;
     const float background = distance_->background();  // voxels
     const float voxel = float(lattice_.voxel);
     const double h = lattice_.voxel;
@@ -122,7 +125,7 @@ class MeshSource : public SurfaceSource {
           const float d = voxels * voxel;
           int32_t tri = index.getValue(ijk);
           glm::dvec3 p = lattice_.position({x, y, z});
-          if (std::abs(d) < band && tri >= 0 && size_t(tri) < mesh_.triangles.size()) {
+          if (std::abs(d) < reach && tri >= 0 && size_t(tri) < mesh_.triangles.size()) {
             const glm::ivec3& t = mesh_.triangles[size_t(tri)];
             glm::dvec3 bary;
             const auto& v = mesh_.positions;
@@ -168,10 +171,10 @@ class MeshSource : public SurfaceSource {
               point.sheet = float(exact);
               point.sheet_normal = glm::vec3(n);
               point.sheet_offset = float(std::abs(offset));
-              // Beyond the band, the shell's faces are at least band - half
-              // - shift away: a march that steps by the distance must not
-              // step through the inner face of a shell inside a volume.
-              point.distance = float(point.near ? std::abs(middle) - half : band - half - shift);
+              // Beyond the band too (not near), the distance to the shell:
+              // a march that steps by the distance must not step through
+              // the inner face of a shell inside a volume.
+              point.distance = float(std::abs(middle) - half);
               const glm::dvec3 gradient = on_edge ? double(side) * off / exact : n;  // of the signed distance
               point.normal = glm::vec3(middle < 0 ? -gradient : gradient);
               if (on_edge) {
@@ -203,9 +206,11 @@ class MeshSource : public SurfaceSource {
               if (on_edge && exact > 1e-3 * h) point.normal = glm::vec3((p - c) / (inside ? -exact : exact));
             }
           } else {
-            float magnitude = std::max(std::abs(d), band);
-            // A shell's faces lie up to half + shift inside its triangles.
-            if (open_) magnitude -= float(0.5 * kShellVoxels * h * (1.0 + max_shell_offset_));
+            // A solid's distance beyond the band is the band's; a shell's
+            // faces lie up to half + shift inside its triangles, so beyond
+            // OpenVDB's wider band they are still kBandVoxels away.
+            float magnitude = open_ ? std::max(std::abs(d), reach) - float(0.5 * kShellVoxels * h * (1.0 + max_shell_offset_))
+                                    : std::max(std::min(std::abs(d), kBandVoxels * voxel), band);
             const bool inside = !open_ && (voxels < 0 || (voxels == -background));
             point.distance = inside ? -magnitude : magnitude;
           }
@@ -304,6 +309,15 @@ class MeshSource : public SurfaceSource {
     });
     max_shell_offset_ = 0;
     for (float o : shell_offset_) max_shell_offset_ = std::max(max_shell_offset_, double(std::abs(o)));
+  }
+
+  // OpenVDB's band, each side, in voxels: wider by the shell's width for a
+  // surface that may be drawn two-sided (open or non-manifold edges), so
+  // that its lattice points there get their distance to the shell from the
+  // closest triangle (evaluate), not a bound that trilinear interpolation
+  // reads as surface nearby (specks beside the mushroom's cap at 512^3).
+  float vdb_band_voxels() const {
+    return open_ || mesh_.open_edges || mesh_.nonmanifold_edges ? kBandVoxels + kShellVoxels : kBandVoxels;
   }
 
   // The winding number of the mesh, made on first use. Thread-safe.
