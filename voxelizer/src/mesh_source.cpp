@@ -110,10 +110,10 @@ class MeshSource : public SurfaceSource {
     auto dist = distance_->getConstAccessor();
     auto index = index_->getConstAccessor();
     const float band = std::min(kBandVoxels * float(lattice_.voxel), near_within);
+    const float background = distance_->background();  // voxels: OpenVDB's band (vdb_band_voxels)
     // Of an open surface, the distance to the shell from the closest
     // triangle reaches as far as OpenVDB's band (beyond `band`, not near).
-    const float reach = open_ ? std::min(vdb_band_voxels() * float(lattice_.voxel), near_within) : band;
-    const float background = distance_->background();  // voxels
+    const float reach = open_ ? std::min(background * float(lattice_.voxel), near_within) : band;
     const float voxel = float(lattice_.voxel);
     const double h = lattice_.voxel;
     for (int z = lo.z; z <= hi.z; ++z)
@@ -209,7 +209,8 @@ class MeshSource : public SurfaceSource {
             // A solid's distance beyond the band is the band's; a shell's
             // faces lie up to half + shift inside its triangles, so beyond
             // OpenVDB's wider band they are still kBandVoxels away.
-            float magnitude = open_ ? std::max(std::abs(d), reach) - float(0.5 * kShellVoxels * h * (1.0 + max_shell_offset_))
+            const float shell_depth = float(0.5 * kShellVoxels * h * (1.0 + max_shell_offset_));
+            float magnitude = open_ ? std::max(std::abs(d), reach) - shell_depth
                                     : std::max(std::min(std::abs(d), kBandVoxels * voxel), band);
             const bool inside = !open_ && (voxels < 0 || (voxels == -background));
             point.distance = inside ? -magnitude : magnitude;
