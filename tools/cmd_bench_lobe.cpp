@@ -8,7 +8,10 @@
 //   2. anisotropic lobes (Fig. 9): Eq. 13 (ASG) against Eq. 12 and Eq. 4 on
 //      grooves whose voxels' slopes spread along one axis;
 //   3. upsampling from 1/4 of the size (Figs. 14-16) with one fixed
-//      parameter each, with and without adaptive recomputation;
+//      parameter each (chosen on the rough image, and the paper's), with
+//      and without adaptive recomputation, of four inputs: the sampled
+//      pass, the pre-convolved lookup, the cone-traced specular (Fig. 14)
+//      and the cone-traced bumpy sphere (Fig. 15);
 //   4. the filter's time per frame of each weight at radius 8 and 16 at
 //      1920x1080 on every host asked for (Table 1);
 //   5. the voxels' own slope covariance as the lobe, on a far view of the
@@ -193,7 +196,7 @@ void run_lobe_bench(const LobeArgs& a) {
   auto wants = [&](uint32_t n) { return std::find(a.parts.begin(), a.parts.end(), n) != a.parts.end(); };
   const octree::Octree spheres = build("material-spheres", a.resolution, bar);
   const octree::Octree grooves = wants(2) ? build("grooved-cylinder", a.resolution, bar) : octree::Octree{};
-  const octree::Octree bumpy = wants(5) ? build("bumpy-sphere", a.resolution, bar) : octree::Octree{};
+  const octree::Octree bumpy = wants(3) || wants(5) ? build("bumpy-sphere", a.resolution, bar) : octree::Octree{};
 
   render::RenderSettings lit;  // the environment, read once
   apply_lighting(lighting, lit);
@@ -354,6 +357,31 @@ void run_lobe_bench(const LobeArgs& a) {
        << ups[2].name << ", recomputed under 0.25 | pixels shaded again |\n|---|---|---|---|---|---|---|\n";
     nlohmann::json up = nlohmann::json::array();
     std::vector<render::Frame> frames;
+    // One row: the three images with `f`, then the third recomputed under
+    // 0.25; returns the share of its pixels shaded again.
+    auto row = [&](render::FilterOptions f, const std::string& label, std::vector<render::Frame>& out) {
+      const bool lobe = f.weight == render::FilterWeight::Lobe;
+      const float value = lobe ? f.beta : f.sigma_n2;
+      md << "| " << label << " | " << (lobe ? "beta " : "sigma_n^2 ") << value;
+      nlohmann::json r{{"weight", render::filter_weight_name(f.weight)}, {"label", label}, {"parameter", value}};
+      for (size_t k = 0; k < ups.size(); ++k) {
+        out.push_back(runs[k]->run(f));
+        const double e = mse(out.back(), runs[k]->reference);
+        md << " | " << sci(e);
+        r[ups[k].name] = e;
+        csv << key << "," << ups[k].name << "," << label << ",recompute,0," << e << "\n";
+      }
+      f.recompute = 0.25f;
+      out.push_back(runs[2]->run(f));
+      const double e = mse(out.back(), runs[2]->reference);
+      const double shaded = runs[2]->shaded_again();
+      md << " | " << sci(e) << " | " << bench::fmt(100.0 * shaded, 1) << "% |\n";
+      r["mixed_recomputed"] = e;
+      r["shaded_again"] = shaded;
+      csv << key << "," << ups[2].name << "," << label << ",recompute,0.25," << e << "\n";
+      up.push_back(r);
+      return shaded;
+    };
     double lobe_share = 0;
     render::FilterOptions tuned_normal;
     for (auto weight : {render::FilterWeight::Normal, render::FilterWeight::Lobe}) {
@@ -364,29 +392,21 @@ void run_lobe_bench(const LobeArgs& a) {
       const Sweep tuned = sweep(*runs[0], f, lobe, lobe ? kBetas : kSigmas, [&](double x) {
         bar.update("upsampling " + std::string(render::filter_weight_name(weight)), 0.5 * (x + (lobe ? 1 : 0)));
       });
-      const float value = (lobe ? kBetas : kSigmas)[tuned.best];
-      (lobe ? f.beta : f.sigma_n2) = value;
-      md << "| " << render::filter_weight_name(weight) << " | " << (lobe ? "beta " : "sigma_n^2 ") << value;
-      nlohmann::json row{{"weight", render::filter_weight_name(weight)}, {"parameter", value}};
-      for (size_t k = 0; k < ups.size(); ++k) {
-        frames.push_back(runs[k]->run(f));
-        const double e = mse(frames.back(), runs[k]->reference);
-        md << " | " << sci(e);
-        row[ups[k].name] = e;
-        csv << key << "," << ups[k].name << "," << render::filter_weight_name(weight) << ",recompute,0," << e << "\n";
-      }
-      render::FilterOptions again = f;
-      again.recompute = 0.25f;
-      frames.push_back(runs[2]->run(again));
-      const double e = mse(frames.back(), runs[2]->reference);
-      const double shaded = runs[2]->shaded_again();
-      md << " | " << sci(e) << " | " << bench::fmt(100.0 * shaded, 1) << "% |\n";
-      row["mixed_recomputed"] = e;
-      row["shaded_again"] = shaded;
-      csv << key << "," << ups[2].name << "," << render::filter_weight_name(weight) << ",recompute,0.25," << e << "\n";
-      up.push_back(row);
+      (lobe ? f.beta : f.sigma_n2) = (lobe ? kBetas : kSigmas)[tuned.best];
+      const double shaded = row(f, render::filter_weight_name(weight), frames);
       if (lobe) lobe_share = shaded;
       if (!lobe) tuned_normal = f;
+    }
+    // The paper's own parameters of Fig. 14 (sigma_n^2 0.01, beta 20,
+    // chosen there by hand), the same for every image.
+    std::vector<render::Frame> paper;
+    for (auto weight : {render::FilterWeight::Normal, render::FilterWeight::Lobe}) {
+      render::FilterOptions f;
+      f.weight = weight;
+      f.recompute = 0.0f;
+      f.sigma_n2 = 0.01f;
+      f.beta = 20.0f;
+      row(f, std::string(render::filter_weight_name(weight)) + ", Fig. 14's parameter", paper);
     }
     // At equal cost: the normal-aware weight with the threshold that shades
     // about as many pixels again as the lobe-aware one does under 0.25.
@@ -413,14 +433,18 @@ void run_lobe_bench(const LobeArgs& a) {
     }
     // frames: normal rough, sharp, mixed, mixed recomputed; then the same for lobe.
     const std::string strip = key == "fig14" ? "upsample-strip.png" : "upsample-" + key + "-strip.png";
-    write_png(dir / strip,
-              bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
-                            {&frames[2], &frames[6], &runs[2]->reference},
-                            {&frames[3], &frames[7], &runs[2]->reference}}));
+    write_png(dir / strip, bench::strip({{&frames[1], &frames[5], &runs[1]->reference},
+                                         {&frames[2], &frames[6], &runs[2]->reference},
+                                         {&frames[3], &frames[7], &runs[2]->reference}}));
+    write_png(dir / ("upsample-" + key + "-paper-strip.png"),
+              bench::strip({{&paper[1], &paper[5], &runs[1]->reference},
+                            {&paper[2], &paper[6], &runs[2]->reference},
+                            {&paper[3], &paper[7], &runs[2]->reference}}));
     results[key] = up;
-    md << "\nStrip (`" << strip << "`), rows "
-       << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
-       << " recomputed under 0.25; columns normal-aware, lobe-aware, reference.\n\n";
+    md << "\nStrip (`" << strip << "`), rows " << ups[1].name << ", " << ups[2].name << ", " << ups[2].name
+       << " recomputed under 0.25; columns normal-aware, lobe-aware, reference; the same with Fig. 14's "
+          "parameters in `upsample-"
+       << key << "-paper-strip.png`.\n\n";
   };
   if (part(3)) {
     bar.update("upsampling", 0);
@@ -441,6 +465,31 @@ void run_lobe_bench(const LobeArgs& a) {
                "\n### 3b. Upsampling the pre-convolved specular from 1/4: one lookup per pixel at 1/4 of the size, "
                "against the same lookup at the full size; parameters chosen on " +
                    ups[0].name + " and kept\n\n");
+    // Fig. 14's input: the specular cone-traced through the octree (one
+    // cone along each lobe, --env-shadows), so that the spheres' shadows
+    // and reflections of one another are in the image.
+    bar.update("upsampling cone-traced", 0);
+    for (Scene& scene : ups) scene.settings.shading.env_shadows = true;
+    upsampling(ups, "fig14_cones",
+               "\n### 3c. Upsampling the cone-traced specular from 1/4 (Fig. 14's input): the pre-convolved lookup "
+               "with one cone along each lobe through the octree; parameters chosen on " +
+                   ups[0].name + " and kept\n\n");
+    // Fig. 15: normals and lobe widths that change from pixel to pixel
+    // (the paper's normal maps with filtered mipmaps; here the bumpy
+    // sphere's bumps, a few pixels across, and the voxels' slopes).
+    bar.update("upsampling bumps", 0);
+    std::vector<Scene> bumps;
+    for (float e : {10.0f, 1000.0f, 100.0f}) {
+      Scene s{"bumpy-phong-" + std::to_string(int(e)), &bumpy, settings_of(bumpy, "mid", a.size, a.size)};
+      s.settings.shading.material = phong(e);
+      s.settings.shading.preconvolved = pre;
+      s.settings.shading.env_shadows = true;
+      bumps.push_back(s);
+    }
+    upsampling(bumps, "fig15",
+               "\n### 3d. Fig. 15: the bumpy sphere's mid view, cone-traced specular, upsampled from 1/4; the "
+               "third image (phong-100) is the one recomputed; parameters chosen on " +
+                   bumps[0].name + " and kept\n\n");
   }
   save();
   // --- 5. The voxels' slopes as the lobe: the bumpy sphere seen from afar,

@@ -134,7 +134,9 @@ TEST(RoughLambert, MatchesTheMeanOverGaussianSlopes) {
       worst = std::max(worst, std::abs(ours / mc - 1.0));
       EXPECT_NEAR(ours / mc, 1.0, 0.01) << "variance " << var.x << ", " << var.y << ", case " << c;
       // The macro-normal cosine is off by more where the slopes matter.
-      if (var.x >= 0.02) EXPECT_GT(std::abs(l.z / mc - 1.0), std::abs(ours / mc - 1.0)) << "case " << c;
+      if (var.x >= 0.02) {
+        EXPECT_GT(std::abs(l.z / mc - 1.0), std::abs(ours / mc - 1.0)) << "case " << c;
+      }
     }
   }
   std::printf("rough Lambert: worst relative difference %.4f\n", worst);

@@ -129,7 +129,9 @@ TEST(Detail, BoundsHoldTheDrawnDisplacementAndSlope) {
     }
     EXPECT_LE(value, bounds.x) << "r " << r;
     EXPECT_LE(slope, bounds.y) << "r " << r;
-    if (value > 0) EXPECT_LT(bounds.x, 8.0f * value) << "r " << r;
+    if (value > 0) {
+      EXPECT_LT(bounds.x, 8.0f * value) << "r " << r;
+    }
   }
   // Nothing is drawn at footprints of a wavelength / F and more.
   EXPECT_EQ(svo_detail_bounds(d, 0.1f / SVO_DETAIL_DRAWN_FROM, stored), vec2(0.0f));
@@ -185,7 +187,9 @@ TEST(Detail, ChangeAlongARayStaysWithinItsBounds) {
       }
     }
     std::printf("r %g: mean change / Lipschitz bound at s = %g: %.3f\n", r, s[3], mean_change[3] / (lipschitz * s[3]));
-    if (lipschitz > 0) EXPECT_LT(mean_change[3], 0.5f * lipschitz * s[3]) << "r " << r;
+    if (lipschitz > 0) {
+      EXPECT_LT(mean_change[3], 0.5f * lipschitz * s[3]) << "r " << r;
+    }
   }
 }
 

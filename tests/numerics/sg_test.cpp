@@ -90,8 +90,8 @@ TEST(SphericalGaussians, ExactProductIntegralMatchesQuadratureInFloat) {
     ASSERT_TRUE(std::isfinite(ours));
     const double e = std::abs(double(ours) - truth) / truth;
     worst = std::max(worst, e);
-    EXPECT_LT(e, 1e-4) << "sharpness " << a.sharpness << ", " << b.sharpness << ", cos "
-                       << glm::dot(a.axis, b.axis) << ": " << ours << " against " << truth;
+    EXPECT_LT(e, 1e-4) << "sharpness " << a.sharpness << ", " << b.sharpness << ", cos " << glm::dot(a.axis, b.axis)
+                       << ": " << ours << " against " << truth;
   }
   std::printf("exact product integral: worst relative error %.2e\n", worst);
 }
@@ -129,7 +129,9 @@ TEST(SphericalGaussians, Eq11WeightMatchesQuadrature) {
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-4) << "sharpness " << a.sharpness << ", " << b.sharpness;
     // beta: a power of the same.
-    if (std::pow(truth, 4.0) > 1e-30) EXPECT_NEAR(svo::math::svo_weight_eq11(a.sg(), b.sg(), 4.0f), std::pow(truth, 4.0), 4e-4 * std::pow(truth, 4.0));
+    if (std::pow(truth, 4.0) > 1e-30) {
+      EXPECT_NEAR(svo::math::svo_weight_eq11(a.sg(), b.sg(), 4.0f), std::pow(truth, 4.0), 4e-4 * std::pow(truth, 4.0));
+    }
   }
   std::printf("Eq. 11 weight: worst relative error %.2e\n", worst);
 }
@@ -146,8 +148,12 @@ TEST(SphericalGaussians, Eq12ApproachesQuadratureForSharpLobes) {
     ASSERT_TRUE(std::isfinite(ours));
     const double e = std::abs(double(ours) - truth), l = std::min(a.sharpness, b.sharpness);
     worst[l >= 100 ? 2 : l >= 10 ? 1 : 0] = std::max(worst[l >= 100 ? 2 : l >= 10 ? 1 : 0], e);
-    if (l >= 10) EXPECT_LT(e, 5e-4) << a.sharpness << " " << b.sharpness;
-    if (l >= 100) EXPECT_LT(e, 1e-4) << a.sharpness << " " << b.sharpness;
+    if (l >= 10) {
+      EXPECT_LT(e, 5e-4) << a.sharpness << " " << b.sharpness;
+    }
+    if (l >= 100) {
+      EXPECT_LT(e, 1e-4) << a.sharpness << " " << b.sharpness;
+    }
   }
   std::printf("Eq. 12 against quadrature, largest difference: %.4f below sharpness 10, %.5f from 10, %.6f from 100\n",
               worst[0], worst[1], worst[2]);
@@ -156,8 +162,10 @@ TEST(SphericalGaussians, Eq12ApproachesQuadratureForSharpLobes) {
 TEST(SphericalGaussians, WeightsAreSymmetricOneForIdenticalLobesAndNormalAwareForDiffuse) {
   for (const auto& [a, b] : lobe_pairs()) {
     for (float beta : {0.5f, 1.0f, 20.0f}) {
-      EXPECT_FLOAT_EQ(svo::math::svo_weight_eq12(a.sg(), b.sg(), beta), svo::math::svo_weight_eq12(b.sg(), a.sg(), beta));
-      EXPECT_FLOAT_EQ(svo::math::svo_weight_eq11(a.sg(), b.sg(), beta), svo::math::svo_weight_eq11(b.sg(), a.sg(), beta));
+      EXPECT_FLOAT_EQ(svo::math::svo_weight_eq12(a.sg(), b.sg(), beta),
+                      svo::math::svo_weight_eq12(b.sg(), a.sg(), beta));
+      EXPECT_FLOAT_EQ(svo::math::svo_weight_eq11(a.sg(), b.sg(), beta),
+                      svo::math::svo_weight_eq11(b.sg(), a.sg(), beta));
       EXPECT_FLOAT_EQ(svo::math::svo_weight_eq12(a.sg(), a.sg(), beta), 1.0f);
       EXPECT_FLOAT_EQ(svo::math::svo_weight_eq11(a.sg(), a.sg(), beta), 1.0f);
     }
@@ -281,8 +289,8 @@ TEST(AnisotropicSphericalGaussians, ProductIntegralMatchesQuadrature) {
           const float ours = svo::math::svo_asg_product_integral(a.asg(), b.asg());
           const double e = std::abs(double(ours) - truth) / truth;
           worst = std::max(worst, e);
-          EXPECT_LT(e, 0.02) << "lx " << lx << ", 1:" << ratio << ", tilt " << tilt << ", spin " << spin << ": "
-                             << ours << " against " << truth;
+          EXPECT_LT(e, 0.02) << "lx " << lx << ", 1:" << ratio << ", tilt " << tilt << ", spin " << spin << ": " << ours
+                             << " against " << truth;
         }
       }
     }
@@ -355,10 +363,12 @@ TEST(AnisotropicSphericalGaussians, AxesMoreThanARightAngleApart) {
 TEST(AnisotropicSphericalGaussians, Eq13IsOneForIdenticalLobesAndSymmetric) {
   const AsgLobe a = asg_lobe(0.3, 0.2, 0.0, 300, 30), b = asg_lobe(0.4, 0.1, 0.5, 100, 60);
   EXPECT_NEAR(svo::math::svo_weight_eq13(a.asg(), a.asg(), 10.0f), 1.0f, 1e-5f);
-  EXPECT_FLOAT_EQ(svo::math::svo_weight_eq13(a.asg(), b.asg(), 3.0f), svo::math::svo_weight_eq13(b.asg(), a.asg(), 3.0f));
+  EXPECT_FLOAT_EQ(svo::math::svo_weight_eq13(a.asg(), b.asg(), 3.0f),
+                  svo::math::svo_weight_eq13(b.asg(), a.asg(), 3.0f));
   EXPECT_LT(svo::math::svo_weight_eq13(a.asg(), b.asg(), 3.0f), 0.5f);
   // Smoothing widens both: closer lobes.
-  EXPECT_GT(svo::math::svo_weight_eq13(svo::math::svo_asg_smooth(a.asg(), 30.0f), svo::math::svo_asg_smooth(b.asg(), 30.0f), 3.0f),
+  EXPECT_GT(svo::math::svo_weight_eq13(svo::math::svo_asg_smooth(a.asg(), 30.0f),
+                                       svo::math::svo_asg_smooth(b.asg(), 30.0f), 3.0f),
             svo::math::svo_weight_eq13(a.asg(), b.asg(), 3.0f));
 }
 
@@ -385,9 +395,12 @@ TEST(SphericalGaussians, ReflectionLobeFollowsTheBeckmannLobe) {
       };
       const Lobe g{glm::dvec3(sg.axis), double(sg.sharpness), 1.0};
       const glm::dvec3 c = glm::dvec3(sg.axis);
-      const double ab = sphere_integral(c, [&](glm::dvec3 w) { return lobe(w) * g(w); }, 256);
-      const double aa = sphere_integral(c, [&](glm::dvec3 w) { return lobe(w) * lobe(w); }, 256);
-      const double bb = sphere_integral(c, [&](glm::dvec3 w) { return g(w) * g(w); }, 256);
+      const double ab = sphere_integral(
+          c, [&](glm::dvec3 w) { return lobe(w) * g(w); }, 256);
+      const double aa = sphere_integral(
+          c, [&](glm::dvec3 w) { return lobe(w) * lobe(w); }, 256);
+      const double bb = sphere_integral(
+          c, [&](glm::dvec3 w) { return g(w) * g(w); }, 256);
       const double q = ab / std::sqrt(aa * bb);
       std::printf("Beckmann alpha %.2f, view %.1f rad: similarity of the SG reflection lobe %.4f\n", alpha, view, q);
       EXPECT_GT(q, 0.9) << alpha << " " << view;
