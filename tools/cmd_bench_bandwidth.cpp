@@ -646,39 +646,94 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           save_png(dir / "fig12a-predicted-variance.png", false_colour(pred, a.size, a.size, pmax * 1e-4, pmax, true));
           save_png(dir / "fig12b-measured-variance.png",
                    false_colour(measured, a.size, a.size, vmax * 1e-4, vmax, true));
-          // Bandwidth: the prediction against a windowed FFT of the truth's luminance.
-          std::vector<float> lum(n);
-          for (size_t i = 0; i < n; ++i)
-            lum[i] = 0.2126f * truth.colour[i].r + 0.7152f * truth.colour[i].g + 0.0722f * truth.colour[i].b;
-          const std::vector<float> fft = render::windowed_fft_bandwidth(lum, a.size, a.size, 32, 8);
-          std::vector<double> xs, ys;
-          std::vector<float> fft_shown(n, -1);
-          for (size_t i = 0; i < n; ++i) {
-            if (!(coverage[i] >= 0.999f)) continue;
-            fft_shown[i] = fft[i];
-            xs.push_back(bp[i]);
-            ys.push_back(fft[i]);
+          // Bandwidth: the prediction against a windowed FFT of an image's
+          // luminance, over the fully covered pixels and over those whose
+          // whole 32x32 window is covered surface (no silhouette, no
+          // background in the FFT's window).
+          struct FftAgreement {
+            std::vector<float> shown;  // the FFT's bandwidth on covered pixels, -1 elsewhere
+            double rho = 0, rho_interior = 0;
+            double rho_window = 0;  // the prediction averaged over the FFT's window instead
+            size_t interior = 0;
+          };
+          // The prediction's mean over the covered pixels of each pixel's
+          // 32x32 window: the FFT reads a window, the prediction a pixel
+          // (from n_b random directions, so noisy pixel to pixel).
+          std::vector<double> bp_window(n, 0.0);
+          {
+            const size_t w = a.size + 1;
+            std::vector<double> sum(w * w, 0.0), count(w * w, 0.0);
+            for (uint32_t y = 0; y < a.size; ++y)
+              for (uint32_t x = 0; x < a.size; ++x) {
+                const size_t i = size_t(y) * a.size + x;
+                const bool on = coverage[i] >= 0.999f;
+                sum[(y + 1) * w + x + 1] =
+                    (on ? double(bp[i]) : 0.0) + sum[y * w + x + 1] + sum[(y + 1) * w + x] - sum[y * w + x];
+                count[(y + 1) * w + x + 1] =
+                    (on ? 1.0 : 0.0) + count[y * w + x + 1] + count[(y + 1) * w + x] - count[y * w + x];
+              }
+            for (uint32_t y = 0; y < a.size; ++y)
+              for (uint32_t x = 0; x < a.size; ++x) {
+                const size_t x0 = size_t(std::max(int(x) - 16, 0)), x1 = std::min<size_t>(x + 16, a.size);
+                const size_t y0 = size_t(std::max(int(y) - 16, 0)), y1 = std::min<size_t>(y + 16, a.size);
+                const double c = count[y1 * w + x1] - count[y0 * w + x1] - count[y1 * w + x0] + count[y0 * w + x0];
+                const double t = sum[y1 * w + x1] - sum[y0 * w + x1] - sum[y1 * w + x0] + sum[y0 * w + x0];
+                bp_window[size_t(y) * a.size + x] = c > 0 ? t / c : 0.0;
+              }
           }
-          const double rho = rank_correlation(xs, ys);
-          // The same over pixels whose whole 32x32 window is covered surface
-          // (no silhouette, no background in the FFT's window).
-          std::vector<uint32_t> open_sat((a.size + 1) * size_t(a.size + 1), 0);
-          for (uint32_t y = 0; y < a.size; ++y)
-            for (uint32_t x = 0; x < a.size; ++x)
-              open_sat[(y + 1) * size_t(a.size + 1) + x + 1] =
-                  (coverage[size_t(y) * a.size + x] >= 0.999f ? 0u : 1u) + open_sat[y * size_t(a.size + 1) + x + 1] +
-                  open_sat[(y + 1) * size_t(a.size + 1) + x] - open_sat[y * size_t(a.size + 1) + x];
-          std::vector<double> xi, yi;
-          for (uint32_t y = 16; y + 16 < a.size; ++y)
-            for (uint32_t x = 16; x + 16 < a.size; ++x) {
-              const size_t w = a.size + 1;
-              const uint32_t open = open_sat[(y + 16) * w + x + 16] - open_sat[(y - 16) * w + x + 16] -
-                                    open_sat[(y + 16) * w + x - 16] + open_sat[(y - 16) * w + x - 16];
-              if (open != 0) continue;
-              xi.push_back(bp[size_t(y) * a.size + x]);
-              yi.push_back(fft[size_t(y) * a.size + x]);
+          auto fft_agreement = [&](const render::Frame& image) {
+            std::vector<float> lum(n);
+            for (size_t i = 0; i < n; ++i)
+              lum[i] = 0.2126f * image.colour[i].r + 0.7152f * image.colour[i].g + 0.0722f * image.colour[i].b;
+            const std::vector<float> fft = render::windowed_fft_bandwidth(lum, a.size, a.size, 32, 8);
+            FftAgreement r;
+            r.shown.assign(n, -1);
+            std::vector<double> xs, ys, xw;
+            for (size_t i = 0; i < n; ++i) {
+              if (!(coverage[i] >= 0.999f)) continue;
+              r.shown[i] = fft[i];
+              xs.push_back(bp[i]);
+              ys.push_back(fft[i]);
+              xw.push_back(bp_window[i]);
             }
-          const double rho_interior = xi.size() > 2 ? rank_correlation(xi, yi) : 0.0;
+            r.rho = rank_correlation(xs, ys);
+            r.rho_window = rank_correlation(xw, ys);
+            std::vector<uint32_t> open_sat((a.size + 1) * size_t(a.size + 1), 0);
+            for (uint32_t y = 0; y < a.size; ++y)
+              for (uint32_t x = 0; x < a.size; ++x)
+                open_sat[(y + 1) * size_t(a.size + 1) + x + 1] =
+                    (coverage[size_t(y) * a.size + x] >= 0.999f ? 0u : 1u) + open_sat[y * size_t(a.size + 1) + x + 1] +
+                    open_sat[(y + 1) * size_t(a.size + 1) + x] - open_sat[y * size_t(a.size + 1) + x];
+            std::vector<double> xi, yi;
+            for (uint32_t y = 16; y + 16 < a.size; ++y)
+              for (uint32_t x = 16; x + 16 < a.size; ++x) {
+                const size_t w = a.size + 1;
+                const uint32_t open = open_sat[(y + 16) * w + x + 16] - open_sat[(y - 16) * w + x + 16] -
+                                      open_sat[(y + 16) * w + x - 16] + open_sat[(y - 16) * w + x - 16];
+                if (open != 0) continue;
+                xi.push_back(bp[size_t(y) * a.size + x]);
+                yi.push_back(fft[size_t(y) * a.size + x]);
+              }
+            r.rho_interior = xi.size() > 2 ? rank_correlation(xi, yi) : 0.0;
+            r.interior = xi.size();
+            return r;
+          };
+          const FftAgreement of_truth = fft_agreement(truth);
+          const double rho = of_truth.rho, rho_interior = of_truth.rho_interior;
+          const std::vector<float>& fft_shown = of_truth.shown;
+          // The same against a noise-free image: the forward pass with the
+          // map pre-convolved (one lookup per lobe, no samples), so that no
+          // Monte Carlo noise sits in the FFT's bins above epsilon.
+          if (!preconvolved)
+            preconvolved =
+                std::make_shared<const render::PreconvolvedEnvironment>(render::preconvolve_environment(*env));
+          render::RenderSettings smooth_settings = s;
+          smooth_settings.shading.preconvolved = preconvolved;
+          const render::Frame smooth = forward->render(smooth_settings);
+          const FftAgreement of_smooth = fft_agreement(smooth);
+          save_png(dir / "fig12g-preconvolved.png", smooth);
+          save_png(dir / "fig12h-fft-bandwidth-preconvolved.png",
+                   false_colour(of_smooth.shown, a.size, a.size, 1e-3, 0.5, true));
           save_png(dir / "fig12c-predicted-bandwidth.png", false_colour(bp, a.size, a.size, 1e-3, 0.5, true));
           save_png(dir / "fig12d-fft-bandwidth.png", false_colour(fft_shown, a.size, a.size, 1e-3, 0.5, true));
           save_png(dir / "fig12e-result.png", result);
@@ -695,13 +750,22 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
              << " fully covered pixels: conservative on " << bench::fmt(100.0 * conservative / counted, 1)
              << "%, median over-estimate " << sci(median_over) << "x. Predicted image bandwidth b_p against a "
              << "windowed FFT (32x32, Hann) of the ground truth: Spearman rank correlation " << bench::fmt(rho, 3)
-             << " (" << bench::fmt(rho_interior, 3) << " over the " << xi.size()
-             << " pixels whose 32x32 window is all surface). Images: fig12a-f, fig1b-d.\n\n";
+             << " (" << bench::fmt(rho_interior, 3) << " over the " << of_truth.interior
+             << " pixels whose 32x32 window is all surface); against the same FFT of the noise-free pre-convolved "
+             << "forward frame (fig12g): " << bench::fmt(of_smooth.rho, 3) << " ("
+             << bench::fmt(of_smooth.rho_interior, 3)
+             << "). With the prediction averaged over the FFT's 32x32 window: " << bench::fmt(of_truth.rho_window, 3)
+             << " against the truth, " << bench::fmt(of_smooth.rho_window, 3)
+             << " against the pre-convolved frame. Images: fig12a-h, fig1b-d.\n\n";
           json["validation"] = {{"label", label},
                                 {"conservative_share", double(conservative) / counted},
                                 {"median_overestimate", median_over},
                                 {"rank_correlation", rho},
                                 {"rank_correlation_interior", rho_interior},
+                                {"rank_correlation_preconvolved", of_smooth.rho},
+                                {"rank_correlation_preconvolved_interior", of_smooth.rho_interior},
+                                {"rank_correlation_window", of_truth.rho_window},
+                                {"rank_correlation_preconvolved_window", of_smooth.rho_window},
                                 {"pixels", counted}};
           md.save();
         }

@@ -174,6 +174,31 @@ Sweep sweep(Runs& runs, render::FilterOptions base, bool over_beta, const std::v
   return s;
 }
 
+// The paper's Fig. 10: MSE against sigma_n^2 (normal-aware) and against
+// beta (lobe-aware), one line per image, from results.csv's fig10 rows.
+void write_fig10_plot(const fs::path& dir, const std::vector<std::string>& images) {
+  bench::TextFile gp(dir / "fig10.gp");
+  gp << "set terminal pngcairo size 960,420 font 'sans,10'\nset output '" << (dir / "fig10.png").string()
+     << "'\nset datafile separator ','\nset logscale xy\nset grid\nset key top left\nset ylabel 'MSE'\n"
+     << "set multiplot layout 1,2 title 'Fig. 10: the error of each weight over its parameter'\n";
+  const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"};
+  for (const char* weight : {"normal", "lobe"}) {
+    const bool lobe = std::string(weight) == "lobe";
+    gp << "set title '" << (lobe ? "lobe-aware (Eq. 12)" : "normal-aware (Eq. 4)") << "'\nset xlabel '"
+       << (lobe ? "beta" : "sigma_n^2") << "'\nplot ";
+    for (size_t i = 0; i < images.size(); ++i) {
+      gp << (i ? ", " : "") << "'" << (dir / "results.csv").string()
+         << "' every ::1 using (stringcolumn(1) eq 'fig10' && stringcolumn(2) eq '" << images[i]
+         << "' && stringcolumn(3) eq '" << weight << "' ? $5 : 1/0):6 with linespoints pt 7 lc '" << colours[i % 6]
+         << "' title '" << images[i] << "'";
+    }
+    gp << "\n";
+  }
+  gp << "unset multiplot\n";
+  gp.save();
+  bench::run_gnuplot(dir / "fig10.gp");
+}
+
 void write_png(const fs::path& path, const render::Frame& frame) { render::write_colour(path.string(), frame); }
 
 // The per-pixel error of `frame` against the reference, as a heat map.
@@ -302,7 +327,12 @@ void run_lobe_bench(const LobeArgs& a) {
        << ". Mixed image: lobe-aware MSE at its best beta / normal-aware MSE at its best sigma_n^2 = "
        << bench::fmt(results["mixed_lobe_over_normal"].get<double>(), 3) << " (target <= 0.8).\n"
        << "Strips (`IMAGE-strip.png`): 4 spp, normal-aware at its best, lobe-aware at its best, reference. "
-       << "Error maps (`IMAGE-error.png`): normal-aware, lobe-aware.\n\n";
+       << "Error maps (`IMAGE-error.png`): normal-aware, lobe-aware. MSE over sigma_n^2 and beta: `fig10.png` "
+          "(gnuplot, `fig10.gp`).\n\n";
+    save();
+    std::vector<std::string> names;
+    for (const Scene& scene : images) names.push_back(scene.name);
+    write_fig10_plot(dir, names);
   }
 
   save();
@@ -600,7 +630,8 @@ void add_bench_lobe_command(CLI::App& bench, int& exit_code) {
       "Tokuyoshi 2015's figures on the engine, against a converged reference: MSE over sigma_n^2 and beta for "
       "single-material and mixed images (Figs. 10, 13), anisotropic lobes (Fig. 9), upsampling from 1/4 with "
       "recomputation (Figs. 14-16), the filter's time per weight at radius 8 and 16 (Table 1) and the voxels' "
-      "slopes as the lobe; writes table.md, results.csv, results.json, image strips and error maps to --out");
+      "slopes as the lobe; writes table.md, results.csv, results.json, image strips, error maps and fig10.png (MSE "
+      "over sigma_n^2 and beta; gnuplot) to --out");
   cmd->add_option("--env", a->env, "Environment map lighting every image")->capture_default_str();
   cmd->add_option("--resolution", a->resolution, "Finest lattice cells per axis of the octrees")
       ->capture_default_str()
