@@ -185,7 +185,7 @@ void write_fig10_plot(const fs::path& dir, const std::vector<std::string>& image
   for (const char* weight : {"normal", "lobe"}) {
     const bool lobe = std::string(weight) == "lobe";
     gp << "set title '" << (lobe ? "lobe-aware (Eq. 12)" : "normal-aware (Eq. 4)") << "'\nset xlabel '"
-       << (lobe ? "beta" : "sigma_n^2") << "'\nplot ";
+       << (lobe ? "beta" : "sigma_n^2") << "'\nset format x '" << (lobe ? "%g" : "10^{%L}") << "'\nplot ";
     for (size_t i = 0; i < images.size(); ++i) {
       gp << (i ? ", " : "") << "'" << (dir / "results.csv").string()
          << "' every ::1 using (stringcolumn(1) eq 'fig10' && stringcolumn(2) eq '" << images[i]
