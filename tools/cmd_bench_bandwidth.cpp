@@ -723,7 +723,8 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           const std::vector<float>& fft_shown = of_truth.shown;
           // The same against a noise-free image: the forward pass with the
           // map pre-convolved (one lookup per lobe, no samples), so that no
-          // Monte Carlo noise sits in the FFT's bins above epsilon.
+          // Monte Carlo noise sits in the FFT's bins above epsilon. Noise-free
+          // for analytic materials only: a measured BRDF is still sampled.
           if (!preconvolved)
             preconvolved =
                 std::make_shared<const render::PreconvolvedEnvironment>(render::preconvolve_environment(*env));
