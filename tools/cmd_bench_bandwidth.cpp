@@ -35,6 +35,7 @@
 #include <sstream>
 #include <thread>
 
+#include "bench_fft_agreement.h"
 #include "bench_tie.h"
 #include "bench_util.h"
 #include "commands.h"
@@ -164,33 +165,6 @@ render::Frame timed(F render_frame, uint32_t repeats, double& ms) {
   std::sort(t.begin(), t.end());
   ms = t[t.size() / 2];
   return f;
-}
-
-// Spearman's rank correlation of two samples.
-double rank_correlation(const std::vector<double>& x, const std::vector<double>& y) {
-  auto ranks = [](const std::vector<double>& v) {
-    std::vector<size_t> idx(v.size());
-    std::iota(idx.begin(), idx.end(), 0);
-    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return v[a] < v[b]; });
-    std::vector<double> r(v.size());
-    for (size_t i = 0; i < idx.size();) {
-      size_t j = i;
-      while (j + 1 < idx.size() && v[idx[j + 1]] == v[idx[i]]) ++j;
-      for (size_t k = i; k <= j; ++k) r[idx[k]] = 0.5 * double(i + j);
-      i = j + 1;
-    }
-    return r;
-  };
-  const auto rx = ranks(x), ry = ranks(y);
-  const double mx = std::accumulate(rx.begin(), rx.end(), 0.0) / double(rx.size());
-  const double my = std::accumulate(ry.begin(), ry.end(), 0.0) / double(ry.size());
-  double sxy = 0, sxx = 0, syy = 0;
-  for (size_t i = 0; i < rx.size(); ++i) {
-    sxy += (rx[i] - mx) * (ry[i] - my);
-    sxx += (rx[i] - mx) * (rx[i] - mx);
-    syy += (ry[i] - my) * (ry[i] - my);
-  }
-  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
 }
 
 // A scalar image in false colour (svo compare --diff's colour map, black
@@ -647,78 +621,14 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           save_png(dir / "fig12b-measured-variance.png",
                    false_colour(measured, a.size, a.size, vmax * 1e-4, vmax, true));
           // Bandwidth: the prediction against a windowed FFT of an image's
-          // luminance, over the fully covered pixels and over those whose
-          // whole 32x32 window is covered surface (no silhouette, no
-          // background in the FFT's window).
-          struct FftAgreement {
-            std::vector<float> shown;  // the FFT's bandwidth on covered pixels, -1 elsewhere
-            double rho = 0, rho_interior = 0;
-            double rho_window = 0;  // the prediction averaged over the FFT's window instead
-            size_t interior = 0;
-          };
-          // The prediction's mean over the covered pixels of each pixel's
-          // 32x32 window: the FFT reads a window, the prediction a pixel
-          // (from n_b random directions, so noisy pixel to pixel).
-          std::vector<double> bp_window(n, 0.0);
-          {
-            const size_t w = a.size + 1;
-            std::vector<double> sum(w * w, 0.0), count(w * w, 0.0);
-            for (uint32_t y = 0; y < a.size; ++y)
-              for (uint32_t x = 0; x < a.size; ++x) {
-                const size_t i = size_t(y) * a.size + x;
-                const bool on = coverage[i] >= 0.999f;
-                sum[(y + 1) * w + x + 1] =
-                    (on ? double(bp[i]) : 0.0) + sum[y * w + x + 1] + sum[(y + 1) * w + x] - sum[y * w + x];
-                count[(y + 1) * w + x + 1] =
-                    (on ? 1.0 : 0.0) + count[y * w + x + 1] + count[(y + 1) * w + x] - count[y * w + x];
-              }
-            for (uint32_t y = 0; y < a.size; ++y)
-              for (uint32_t x = 0; x < a.size; ++x) {
-                const size_t x0 = size_t(std::max(int(x) - 16, 0)), x1 = std::min<size_t>(x + 16, a.size);
-                const size_t y0 = size_t(std::max(int(y) - 16, 0)), y1 = std::min<size_t>(y + 16, a.size);
-                const double c = count[y1 * w + x1] - count[y0 * w + x1] - count[y1 * w + x0] + count[y0 * w + x0];
-                const double t = sum[y1 * w + x1] - sum[y0 * w + x1] - sum[y1 * w + x0] + sum[y0 * w + x0];
-                bp_window[size_t(y) * a.size + x] = c > 0 ? t / c : 0.0;
-              }
-          }
+          // luminance (bench_fft_agreement.h); the prediction per pixel and
+          // averaged over the FFT's window (it comes from n_b random
+          // directions, so it is grainy pixel to pixel).
+          const std::vector<double> bp_window = bench::window_mean(bp, coverage, a.size, 32);
           auto fft_agreement = [&](const render::Frame& image) {
-            std::vector<float> lum(n);
-            for (size_t i = 0; i < n; ++i)
-              lum[i] = 0.2126f * image.colour[i].r + 0.7152f * image.colour[i].g + 0.0722f * image.colour[i].b;
-            const std::vector<float> fft = render::windowed_fft_bandwidth(lum, a.size, a.size, 32, 8);
-            FftAgreement r;
-            r.shown.assign(n, -1);
-            std::vector<double> xs, ys, xw;
-            for (size_t i = 0; i < n; ++i) {
-              if (!(coverage[i] >= 0.999f)) continue;
-              r.shown[i] = fft[i];
-              xs.push_back(bp[i]);
-              ys.push_back(fft[i]);
-              xw.push_back(bp_window[i]);
-            }
-            r.rho = rank_correlation(xs, ys);
-            r.rho_window = rank_correlation(xw, ys);
-            std::vector<uint32_t> open_sat((a.size + 1) * size_t(a.size + 1), 0);
-            for (uint32_t y = 0; y < a.size; ++y)
-              for (uint32_t x = 0; x < a.size; ++x)
-                open_sat[(y + 1) * size_t(a.size + 1) + x + 1] =
-                    (coverage[size_t(y) * a.size + x] >= 0.999f ? 0u : 1u) + open_sat[y * size_t(a.size + 1) + x + 1] +
-                    open_sat[(y + 1) * size_t(a.size + 1) + x] - open_sat[y * size_t(a.size + 1) + x];
-            std::vector<double> xi, yi;
-            for (uint32_t y = 16; y + 16 < a.size; ++y)
-              for (uint32_t x = 16; x + 16 < a.size; ++x) {
-                const size_t w = a.size + 1;
-                const uint32_t open = open_sat[(y + 16) * w + x + 16] - open_sat[(y - 16) * w + x + 16] -
-                                      open_sat[(y + 16) * w + x - 16] + open_sat[(y - 16) * w + x - 16];
-                if (open != 0) continue;
-                xi.push_back(bp[size_t(y) * a.size + x]);
-                yi.push_back(fft[size_t(y) * a.size + x]);
-              }
-            r.rho_interior = xi.size() > 2 ? rank_correlation(xi, yi) : 0.0;
-            r.interior = xi.size();
-            return r;
+            return bench::fft_agreement(image, bp, bp_window, coverage, a.size);
           };
-          const FftAgreement of_truth = fft_agreement(truth);
+          const bench::FftAgreement of_truth = fft_agreement(truth);
           const double rho = of_truth.rho, rho_interior = of_truth.rho_interior;
           const std::vector<float>& fft_shown = of_truth.shown;
           // The same against a noise-free image: the forward pass with the
@@ -731,7 +641,7 @@ void run_bandwidth_bench(const BandwidthBenchArgs& a) {
           render::RenderSettings smooth_settings = s;
           smooth_settings.shading.preconvolved = preconvolved;
           const render::Frame smooth = forward->render(smooth_settings);
-          const FftAgreement of_smooth = fft_agreement(smooth);
+          const bench::FftAgreement of_smooth = fft_agreement(smooth);
           save_png(dir / "fig12g-preconvolved.png", smooth);
           save_png(dir / "fig12h-fft-bandwidth-preconvolved.png",
                    false_colour(of_smooth.shown, a.size, a.size, 1e-3, 0.5, true));
