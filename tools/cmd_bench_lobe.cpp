@@ -275,19 +275,20 @@ void run_lobe_bench(const LobeArgs& a) {
        << "|---|---|---|---|---|---|---|\n";
     std::vector<Scene> images = singles;
     images.push_back(mixed);
-    // The mixed image again from the mid view as framed before 2026-12-02's
-    // presets (3x closer than the whole domain's far view; the spheres and
-    // tiles larger in the frame): how much the ratio owes to the view.
-    Scene closer = mixed;
-    closer.name = "mixed-domain-mid";
-    render::PresetOptions domain;
-    domain.whole_domain = true;
-    closer.settings.camera = render::view_preset(spheres, "mid", 1.0f, domain);
-    images.push_back(closer);
     if (!a.camera.empty()) {
       const render::Camera c = render::parse_camera(a.camera);
       for (Scene& scene : images) scene.settings.camera = c;
-      images.pop_back();  // the camera replaces both framings
+    } else {
+      // The mixed image again from the mid view as framed before
+      // 2026-12-02's presets (3x closer than the whole domain's far view;
+      // the spheres and tiles larger in the frame): how much the ratio owes
+      // to the view.
+      Scene closer = mixed;
+      closer.name = "mixed-domain-mid";
+      render::PresetOptions domain;
+      domain.whole_domain = true;
+      closer.settings.camera = render::view_preset(spheres, "mid", 1.0f, domain);
+      images.push_back(closer);
     }
     std::vector<float> best_sigma, best_beta;
     nlohmann::json fig10 = nlohmann::json::array();

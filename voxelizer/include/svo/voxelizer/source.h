@@ -49,8 +49,8 @@ constexpr float kShellFaceReach = kShellVoxels + 0.5f;
 
 struct FinePoint {
   float distance = 0;          // signed, negative inside; outside the band at least kBandVoxels voxels in magnitude
-                               // (an open surface's shell: the distance to the shell, at least a voxel, within
-                               // kBandVoxels + kShellVoxels of its triangles; at least kBandVoxels beyond)
+                               // (an open surface's shell: within kBandVoxels + kShellVoxels voxels of its
+                               // triangles, the distance to the shell; beyond, at least kBandVoxels voxels)
   bool near = false;           // |distance| < kBandVoxels voxels: the fields below are set
   glm::vec3 closest{0, 0, 0};  // closest surface point
   glm::vec3 normal{0, 0, 1};   // unit surface normal at `closest`
