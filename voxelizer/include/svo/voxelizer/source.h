@@ -33,13 +33,19 @@ constexpr float kBandVoxels = 3.0f;
 
 // Thickness of the shell drawn around each triangle of an open surface, in
 // voxels of each level. The normal turns around inside the shell, halfway;
-// trilinear interpolation near a face then mixes in corners from beyond the
-// turn, whose opposite normals darken the shading (specks): a thickness of
-// 1.5 left dark specks all over the lion's face (at 128x128 and 512x512),
-// 2 a few isolated dots that 2.5 does not remove either, and each half
-// voxel more widens silhouettes (docs/RESULTS.md, "Open meshes"). Above 1,
-// the interpolation always dips below zero.
-constexpr float kShellVoxels = 2.0f;
+// interpolation near a face then mixes in corners from beyond the turn,
+// whose opposite normals change the shading. Where the shell lies inside
+// the volume a triangle bounds, its width is what a hole's rim shows (a cap
+// across the wall) and how far the inside seen through it is pushed back;
+// on a sheet, half of it widens every silhouette. Every open libcgal-demo
+// mesh at 128^3, far view, against 2 voxels: 1.75 raises PSNR on 41 of 44
+// (median 29.4 to 30.4 dB), lowering it on three boxes whose faces lie on
+// lattice planes (by 0.3-0.55 dB: the turn's faint bands where the far
+// view's footprint reaches past the middle); 1.5 and 1.25 gain more (median
+// 31.3 dB) but band those boxes plainly (-2.5 to -9 dB). docs/RESULTS.md,
+// "Open meshes, round four". Above 1, the interpolation always dips below
+// zero.
+constexpr float kShellVoxels = 1.75f;
 // How far from a sheet, in voxels, a lattice point still matters: within
 // half a voxel of the shell's faces, which lie up to kShellVoxels from it
 // where the shell lies on one side (FinePoint::sheet_offset). Every brick
