@@ -211,10 +211,10 @@ uint32_t lens_parts(const octree::Octree& tree, const RenderSettings& s) {
                                 std::abs(std::max(reach - half_diagonal, 0.0f) - c.focus)) /
                        c.focus;
   // Half that where the octree holds shells (a sheet drawn two-sided):
-  // each part's cone reads a level whose shell is two of its voxels thick,
-  // and the blurred sheet swells by about one (the lion's strong blur at
-  // 256^3: 2 x 2 parts left 234 pixels off and 4,422 specks, 4 x 4 none
-  // and 134).
+  // each part's cone reads a level whose shell is 1.25 of its voxels thick
+  // (2 when this was measured), and the blurred sheet swells by about one
+  // (the lion's strong blur at 256^3: 2 x 2 parts left 234 pixels off and
+  // 4,422 specks, 4 x 4 none and 134).
   const float share = two_sided(tree) ? 0.125f : 0.25f;
   const float coarsest = tree.size / (float(tree.brick_size) * std::sqrt(2.0f));
   return uint32_t(std::clamp(std::ceil(widest / (share * coarsest)), 1.0f, 4.0f));
@@ -273,7 +273,7 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   if (!(s.shading_voxel >= 0.25f && s.shading_voxel <= 4.0f)) {
     throw std::invalid_argument("shading voxel must be in [0.25, 4] cone radii, got " + std::to_string(s.shading_voxel));
   }
-  p.shading = glm::vec4(s.shading_voxel, 0, 0, 0);
+  p.shading = glm::vec4(s.shading_voxel, two_sided(tree) ? 1.0f : 0.0f, 0, 0);
   p.constant_colour = glm::vec4(tree.constant_colour, 0);
   p.ambient = glm::vec4(s.ambient, 0);
   p.background = glm::vec4(s.background, 0);

@@ -94,6 +94,43 @@ struct SvoShadeAttributes {
   float faces;  // SvoShadingSample::faces
 };
 
+// r C r2^T for rows r, r2 and the symmetric 2x2 covariance (xx, yy, xy).
+SVO_FN float svo_cov_form(vec2 r, vec3 c, vec2 r2) {
+  return r.x * (c.x * r2.x + c.z * r2.y) + r.y * (c.z * r2.x + c.y * r2.y);
+}
+
+// An octree whose provenance says "two_sided" draws every open surface as
+// a shell 1.25 voxels thick (svo voxelize), whose normal turns around
+// inside it. A cone wider than a fraction of a voxel meets elements of
+// the shell's far half behind its near face, and they cover the bits the
+// near face left: with their turned normals, laid into the silhouette
+// plane below, they drew bands across a box's faces at the far view
+// wherever the cone's radius let them in (libcgal-demo's open_cube at
+// 128^3: 27.6 dB, 35.1 with the turn). The reference turns every back face
+// towards the eye; so does this, for a mean normal facing clearly away
+// (n . view below -0.3 of its length): the normal, its slopes' covariance
+// (as voxelizer/src/statistics.cpp's two_sided) and the colour-height
+// correlation; only where the element's centre lies inside the shell
+// (hbar < 0), behind the near face: beside a box's bottom edge the cone
+// passes outside, and the bottom face's normals, turned, lit the edge.
+// Limbs, whose normals lie near the silhouette plane, keep the laying
+// below.
+SVO_FN SvoVoxel svo_turn_to_eye(SvoVoxel a, vec3 view, float hbar) {
+  float nl = length(a.n);
+  if (!(params.shading.y > 0.0f) || !(hbar < 0.0f) || !(nl > 0.0f) || dot(a.n, view) >= -0.3f * nl) return a;
+  vec3 u = a.n / nl;
+  SvoFrame f = svo_tangent_frame(u);
+  SvoFrame g = svo_tangent_frame(-u);
+  // Slopes in the frame of -u: s' = M s, rows of M as below.
+  vec2 r0 = vec2(-dot(f.t, g.t), -dot(f.b, g.t));
+  vec2 r1 = vec2(-dot(f.t, g.b), -dot(f.b, g.b));
+  vec3 c = a.cov;
+  a.cov = vec3(svo_cov_form(r0, c, r0), svo_cov_form(r1, c, r1), svo_cov_form(r0, c, r1));
+  a.n = -a.n;
+  a.a_s = -a.a_s;
+  return a;
+}
+
 // The shading attributes at ps (on the element's mean plane) into m.v, for
 // the footprint part of covariance `spread` (in cone radii); n_centre: the
 // element's own normal.
@@ -157,6 +194,7 @@ SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, v
   if ((params.image.w & SVO_FLAG_ELEMENT_NORMALS) != 0u && filtered) {
     a.n = mix(a.n, n_centre, 0.5f * clamp(2.0f * m.radius / params.material.z - 0.5f, 0.0f, 1.0f));
   }
+  a = svo_turn_to_eye(a, view, m.v.hbar);
   // Only cones have a footprint to spread over. The specular
   // lobe takes all of the spread, the rest (Lambert, masking) half: a
   // Gaussian's tails reach farther than the bounded spread of normals

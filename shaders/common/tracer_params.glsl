@@ -69,7 +69,7 @@ struct SvoTraceParams {
   uvec4 detail_u;      // x: octaves (0: none); y: seed
   vec4 light_vector[4];    // xyz: direction towards the light, or position; w: 1 point, 0 directional
   vec4 light_radiance[4];  // rgb: irradiance (directional) or intensity (point); w: size
-  vec4 shading;            // x: voxel size of the level prefiltered shading reads, in cone radii; yzw: unused
+  vec4 shading;            // x: voxel size of the level prefiltered shading reads, in cone radii; y: 1 where the octree draws two-sided shells (svo_turn_to_eye); zw: unused
 };
 
 #endif

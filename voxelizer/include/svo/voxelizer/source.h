@@ -32,20 +32,17 @@ struct Lattice {
 constexpr float kBandVoxels = 3.0f;
 
 // Thickness of the shell drawn around each triangle of an open surface, in
-// voxels of each level. The normal turns around inside the shell, halfway;
-// interpolation near a face then mixes in corners from beyond the turn,
-// whose opposite normals change the shading. Where the shell lies inside
-// the volume a triangle bounds, its width is what a hole's rim shows (a cap
-// across the wall) and how far the inside seen through it is pushed back;
-// on a sheet, half of it widens every silhouette. Every open libcgal-demo
-// mesh at 128^3, far view, against 2 voxels: 1.75 raises PSNR on 41 of 44
-// (median 29.4 to 30.4 dB), lowering it on three boxes whose faces lie on
-// lattice planes (by 0.3-0.55 dB: the turn's faint bands where the far
-// view's footprint reaches past the middle); 1.5 and 1.25 gain more (median
-// 31.3 dB) but band those boxes plainly (-2.5 to -9 dB). docs/RESULTS.md,
-// "Open meshes, round four". Above 1, the interpolation always dips below
-// zero.
-constexpr float kShellVoxels = 1.75f;
+// voxels of each level. The normal turns around inside the shell, halfway.
+// Where the shell lies inside the volume a triangle bounds, its width is
+// what a hole's rim shows (a cap across the wall) and how far the inside
+// seen through the hole is pushed back; on a sheet, half of it widens
+// every silhouette. Every open libcgal-demo mesh at 128^3, far view: 1.25
+// against 2 raised PSNR on 40 of 44 (median 29.4 to 31.3 dB), but a box
+// whose faces lie on lattice planes lost 9 dB to bands, until the tracer
+// turned the shell's far half towards the eye (svo_turn_to_eye,
+// shaders/common/shading.glsl). docs/RESULTS.md, "Open meshes, round
+// four". Above 1, the interpolation always dips below zero.
+constexpr float kShellVoxels = 1.25f;
 // How far from a sheet, in voxels, a lattice point still matters: within
 // half a voxel of the shell's faces, which lie up to kShellVoxels from it
 // where the shell lies on one side (FinePoint::sheet_offset). Every brick
