@@ -41,7 +41,9 @@ constexpr float kBandVoxels = 3.0f;
 // whose faces lie on lattice planes lost 9 dB to bands, until the tracer
 // turned the shell's far half towards the eye (svo_turn_to_eye,
 // shaders/common/shading.glsl). docs/RESULTS.md, "Open meshes, round
-// four". Above 1, the interpolation always dips below zero.
+// four". (When every shell was centred on its triangle, 1.5 left dark
+// specks all over the lion's face and 2 was chosen.) Above 1, the
+// interpolation always dips below zero.
 constexpr float kShellVoxels = 1.25f;
 // How far from a sheet, in voxels, a lattice point still matters: within
 // half a voxel of the shell's faces, which lie up to kShellVoxels from it
