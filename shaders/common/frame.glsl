@@ -21,4 +21,22 @@ SVO_FN SvoFrame svo_tangent_frame(vec3 n) {
   return f;
 }
 
+// r C r2^T for rows r, r2 and the symmetric 2x2 covariance (xx, yy, xy).
+SVO_FN float svo_cov_form(vec2 r, vec3 c, vec2 r2) {
+  return r.x * (c.x * r2.x + c.z * r2.y) + r.y * (c.z * r2.x + c.y * r2.y);
+}
+
+// A slope covariance (xx, yy, xy) in the frame of unit n, for the normals
+// turned around (-n), in the frame of -n: slopes s' = M s with
+// M = -[[t.t2, b.t2], [t.b2, b.b2]] (t, b of n; t2, b2 of -n), M C M^T.
+// The voxelizer turns a sheet's far side with it (two_sided), the tracer a
+// two-sided shell's far half (svo_turn_to_eye).
+SVO_FN vec3 svo_turned_slope_covariance(vec3 n, vec3 c) {
+  SvoFrame f = svo_tangent_frame(n);
+  SvoFrame g = svo_tangent_frame(-n);
+  vec2 r0 = vec2(-dot(f.t, g.t), -dot(f.b, g.t));
+  vec2 r1 = vec2(-dot(f.t, g.b), -dot(f.b, g.b));
+  return vec3(svo_cov_form(r0, c, r0), svo_cov_form(r1, c, r1), svo_cov_form(r0, c, r1));
+}
+
 #endif

@@ -94,11 +94,6 @@ struct SvoShadeAttributes {
   float faces;  // SvoShadingSample::faces
 };
 
-// r C r2^T for rows r, r2 and the symmetric 2x2 covariance (xx, yy, xy).
-SVO_FN float svo_cov_form(vec2 r, vec3 c, vec2 r2) {
-  return r.x * (c.x * r2.x + c.z * r2.y) + r.y * (c.z * r2.x + c.y * r2.y);
-}
-
 // An octree whose provenance says "two_sided" draws every open surface as
 // a shell 1.25 voxels thick (svo voxelize), whose normal turns around
 // inside it. A cone wider than a fraction of a voxel meets elements of
@@ -110,23 +105,16 @@ SVO_FN float svo_cov_form(vec2 r, vec3 c, vec2 r2) {
 // dB, 41.6). The reference turns every back face towards the eye; so does
 // this, for a mean normal facing away where the element's centre lies
 // inside the shell (hbar < 0), behind its near face: the normal, its
-// slopes' covariance (as voxelizer/src/statistics.cpp's two_sided) and
-// the colour-height correlation. Where the cone passes outside (hbar >=
-// 0), as beside a box's bottom edge, the laying below stays: turned there,
-// the bottom face's normals lit the edge. Only normals facing clearly away
-// (below -0.3 of their length) were turned at first: the lion kept its
-// dots (39.2 dB).
+// slopes' covariance (svo_turned_slope_covariance, as the voxelizer's
+// two_sided) and the colour-height correlation. Where the cone passes
+// outside (hbar >= 0), as beside a box's bottom edge, the laying below
+// stays: turned there, the bottom face's normals lit the edge. Only
+// normals facing clearly away (below -0.3 of their length) were turned at
+// first: the lion kept its dots (39.2 dB).
 SVO_FN SvoVoxel svo_turn_to_eye(SvoVoxel a, vec3 view, float hbar) {
   float nl = length(a.n);
   if (!(params.shading.y > 0.0f) || !(hbar < 0.0f) || !(nl > 0.0f) || dot(a.n, view) >= 0.0f) return a;
-  vec3 u = a.n / nl;
-  SvoFrame f = svo_tangent_frame(u);
-  SvoFrame g = svo_tangent_frame(-u);
-  // Slopes in the frame of -u: s' = M s, rows of M as below.
-  vec2 r0 = vec2(-dot(f.t, g.t), -dot(f.b, g.t));
-  vec2 r1 = vec2(-dot(f.t, g.b), -dot(f.b, g.b));
-  vec3 c = a.cov;
-  a.cov = vec3(svo_cov_form(r0, c, r0), svo_cov_form(r1, c, r1), svo_cov_form(r0, c, r1));
+  a.cov = svo_turned_slope_covariance(a.n / nl, a.cov);
   a.n = -a.n;
   a.a_s = -a.a_s;
   return a;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
-#include <glm/mat2x2.hpp>
-#include <glm/matrix.hpp>
 #include <utility>
 #include <vector>
 
@@ -110,15 +108,9 @@ octree::Voxel two_sided(octree::Voxel v, float voxel, float offset) {
   const float half = 0.5f * kShellVoxels * voxel;
   v.hbar += offset * half;  // from the shell's middle
   if (v.hbar < 0) {
-    // Slopes s' of the turned normals in the frame of -nbar: s' = A s with
-    // A = -[[t.t2, b.t2], [t.b2, b.b2]] (frames of nbar and -nbar); the
-    // covariance goes to A C A^T. Heights change sign, and a_s with them.
-    const svo::math::SvoFrame f = svo::math::svo_tangent_frame(v.nbar);
-    const svo::math::SvoFrame g = svo::math::svo_tangent_frame(-v.nbar);
-    const glm::mat2 a(-glm::dot(f.t, g.t), -glm::dot(f.t, g.b), -glm::dot(f.b, g.t), -glm::dot(f.b, g.b));
-    const glm::mat2 c(v.slope_cov.x, v.slope_cov.z, v.slope_cov.z, v.slope_cov.y);
-    const glm::mat2 turned = a * c * glm::transpose(a);
-    v.slope_cov = glm::vec3(turned[0][0], turned[1][1], turned[0][1]);
+    // The slopes' covariance in the frame of -nbar. Heights change sign,
+    // and a_s with them.
+    v.slope_cov = svo::math::svo_turned_slope_covariance(v.nbar, v.slope_cov);
     v.nbar = -v.nbar;
     v.hbar = -v.hbar;
     v.a_s = -v.a_s;
