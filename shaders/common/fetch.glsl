@@ -33,9 +33,13 @@ SVO_FN float svo_voxel_size(uint depth) {
 
 // The fractional level whose voxel is `voxel` (scene units), clamped to the
 // stored levels: its floor is the level, its fraction the blend with the
-// next finer one.
+// next finer one. At or below the finest level's voxel (every element of
+// the native bunny 512^3 mid view, where log2f was 3-5% of the profile) the
+// clamp's answer without the logarithm (log2 is exact at powers of two).
 SVO_FN float svo_level_of_voxel(float voxel) {
-  return clamp(log2(params.domain.w / (float(params.tree.x) * voxel)), 0.0f, float(params.tree.y - 1u));
+  float x = params.domain.w / (float(params.tree.x) * voxel);
+  if (x >= float(1u << (params.tree.y - 1u))) return float(params.tree.y - 1u);
+  return clamp(log2(x), 0.0f, float(params.tree.y - 1u));
 }
 
 SVO_FN uint svo_byte(uint brick, uint offset) {
