@@ -335,6 +335,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   vec3 face = vec3(0.0f);
   float faces = 1.0f;
   float apart = 0.0f;
+  float hp = 0.0f;  // the interpolated distance at p, where the planes' weights need it
   if (normal) {
     float best = -2.0f;
     vec3 n0 = vec3(0.0f);
@@ -365,8 +366,13 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
       if (sharpen > 0.0f) {
         // The corner's plane at the cell's centre, in voxels.
         vec3 o = vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
-        float d = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u)) * inv_voxel +
-                  dot(n, vec3(0.5f) - o);
+        float hk = uintBitsToFloat(svo_brick_bytes(cell.brick, params.offsets_a.x + s * 4u));
+        // The interpolated distance at p as svo_sample_distance sums it
+        // (same weights, same order): one fetch of the corners' distances
+        // fewer, which lavapipe ran for every lane of a group where one
+        // needed it.
+        hp = k == 0u ? svo_corner_weight(c.f, k) * hk : hp + svo_corner_weight(c.f, k) * hk;
+        float d = hk * inv_voxel + dot(n, vec3(0.5f) - o);
         if (k == 0u) {
           d0 = d;
         } else if (dot(n, n0) > 0.99f) {
@@ -383,7 +389,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   sharpen *= 1.0f - clamp(apart / SVO_PLANE_GAP - 1.0f, 0.0f, 1.0f);
   r.faces = faces;
   bool finest = sharpen > 0.0f && normal && agree < 0.996f;
-  float hp = finest ? svo_sample_distance(cell, p) : 0.0f;
+  if (!finest) hp = 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the
   // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
