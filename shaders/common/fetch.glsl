@@ -335,7 +335,7 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   vec3 face = vec3(0.0f);
   float faces = 1.0f;
   float apart = 0.0f;
-  float hp = 0.0f;  // the interpolated distance at p, where the planes' weights need it
+  float hp = 0.0f;  // the interpolated distance at p (summed where sharpen > 0: the planes' weights read it)
   if (normal) {
     float best = -2.0f;
     vec3 n0 = vec3(0.0f);
@@ -389,7 +389,6 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
   sharpen *= 1.0f - clamp(apart / SVO_PLANE_GAP - 1.0f, 0.0f, 1.0f);
   r.faces = faces;
   bool finest = sharpen > 0.0f && normal && agree < 0.996f;
-  if (!finest) hp = 0.0f;
   // Each field is the sum of its corners' terms in the order of k (the
   // first term alone, not added to zero: the sign of a zero is kept).
   for (uint k = 0u; k < 8u; ++k) {
