@@ -163,12 +163,19 @@ SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, v
   // derivatives, from one fetch of each level's corners.
   bool spread = footprinted && params.material.w > 0.0f;
   vec3 toward = filtered ? view : vec3(0.0f);
-  SvoShadingSample sampled =
-      svo_sample_shading(m.lo_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.lo_cell, m.radius));
-  if (m.blend > 0.0f) {
-    sampled = svo_shading_sample_blend(
-        sampled, svo_sample_shading(m.hi_cell, m.p, parts, spread, toward, svo_plane_sharpen(m.hi_cell, m.radius)),
-        m.blend);
+  // The two levels in one loop of one or two turns rather than the second
+  // under an `if`: lavapipe runs a branch's body in every SIMD group, taken
+  // or not, but leaves a loop once no lane is in it, so that groups none of
+  // whose lanes blends sample one level (bunny 512^3, mid view: about 8%
+  // faster there, 3% natively; images bit-identical on both hosts). In
+  // svo_step, whose levels blend in nearly every group, the same loops were
+  // 3-4% slower on both hosts.
+  SvoShadingSample sampled;
+  uint levels = m.blend > 0.0f ? 2u : 1u;
+  for (uint l = 0u; l < levels; ++l) {
+    SvoCell cell = l == 0u ? m.lo_cell : m.hi_cell;
+    SvoShadingSample s = svo_sample_shading(cell, m.p, parts, spread, toward, svo_plane_sharpen(cell, m.radius));
+    sampled = l == 0u ? s : svo_shading_sample_blend(sampled, s, m.blend);
   }
   SvoVoxel a = sampled.v;
   // A cone's elements see different parts of a wide footprint: along a
