@@ -108,7 +108,7 @@ class TracePass : public Pass {
     // instead costs 1.8x per frame on lavapipe.
     const uint32_t n = uint32_t(p.lens.w);
     const uint32_t rows = std::max(1u, (settings.mode == Mode::RayMarch ? kRaysPerDispatch : kConesPerDispatch) / n);
-    vk::ComputeKernel& kernel = kernel_for(settings);
+    vk::ComputeKernel& kernel = kernel_for(settings, p);
     auto dispatch = [&] {
       const double ms = kernel.dispatch_base(bound, nullptr, bx, by, gx, gy);
       return ms < 0 ? ms : ms + fill_ms;
@@ -159,14 +159,16 @@ class TracePass : public Pass {
     return ms;
   }
 
-  // The pipeline specialised for the settings' mode, shadows, G-buffer and detail
-  // (tracer_params.glsl, "Specialisation"), made at its first use.
-  vk::ComputeKernel& kernel_for(const RenderSettings& settings) {
+  // The pipeline specialised for the settings' mode, shadows, G-buffer,
+  // detail and level blending (tracer_params.glsl, "Specialisation"),
+  // made at its first use.
+  vk::ComputeKernel& kernel_for(const RenderSettings& settings, const TraceParams& p) {
     using namespace svo::math;
     uint32_t flags = SVO_SPEC_ANY;
     if (!settings.shadows) flags &= ~SVO_FLAG_SHADOWS;
     if (!settings.gbuffer) flags &= ~SVO_FLAG_GBUFFER;
     if (octree_.tree().detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
+    if (!cones_may_blend(p)) flags &= ~SVO_FLAG_LEVEL_BLEND;
     const std::pair<uint32_t, uint32_t> key{uint32_t(settings.mode), flags};
     auto& kernel = kernels_[key];
     if (!kernel) {

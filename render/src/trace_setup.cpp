@@ -183,6 +183,23 @@ PixelRect domain_pixel_rect(const TraceParams& p) {
   return r.empty() ? PixelRect{} : r;
 }
 
+bool cones_may_blend(const TraceParams& p) {
+  using namespace svo::math;
+  if (p.cam_w.w > 0 || (p.image.w & SVO_FLAG_SHADOWS) != 0u) return true;
+  const float finest = p.material.z;
+  float farthest = 0;
+  for (uint32_t k = 0; k < 8; ++k) {
+    const glm::vec3 corner =
+        glm::vec3(p.domain) + p.domain.w * glm::vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    farthest = std::max(farthest, glm::length(corner - glm::vec3(p.eye)));
+  }
+  // svo_cone_radius and svo_step's element: r = max(k t, 1e-7 domain),
+  // half length max(r, finest / 4) (finer where detail octaves are drawn).
+  const float r = std::max(p.eye.w * farthest, 1.0e-7f * p.domain.w);
+  const float voxel = (r + std::max(r, 0.25f * finest)) / SVO_SQRT2;
+  return !(std::isfinite(voxel) && voxel <= 0.99f * finest);
+}
+
 namespace {
 
 // Whether the octree's provenance (svo voxelize) says that some of its

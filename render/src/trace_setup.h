@@ -38,6 +38,15 @@ struct PixelRect {
 // is wider than the pixel); empty when the box is out of view.
 PixelRect domain_pixel_rect(const TraceParams& p);
 
+// Whether some element of a trace with `p` may read a level coarser than
+// the finest, so that svo_step blends two levels (SVO_FLAG_LEVEL_BLEND):
+// false when the widest cone inside the domain box (a pinhole's, at the
+// box's farthest corner) is narrow enough that every element's voxel,
+// (r + half length) / sqrt(2), is the finest level's, with 1% to spare.
+// Always true for a lens (a defocused cone is wider, and its elements
+// longer) and for shadow cones (from the surface, as wide as a light).
+bool cones_may_blend(const TraceParams& p);
+
 // The mask table the tracers use (built once, shared).
 const MaskTable& tracer_mask_table();
 

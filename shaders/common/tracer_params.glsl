@@ -24,6 +24,10 @@ SVO_CONST uint SVO_FLAG_ELEMENT_NORMALS = 16u;  // prefiltered and alpha: wide c
 SVO_CONST uint SVO_FLAG_COVERED_PART = 32u;  // prefiltered: an element shades the part of the footprint its fresh bits cover
 SVO_CONST uint SVO_FLAG_DETAIL = 64u;  // a feature bit of SVO_SPEC_FLAGS only: the file's detail octaves may be drawn
 SVO_CONST uint SVO_FLAG_CREASE_SPLIT = 128u;  // prefiltered: a part across which the normal turns fast is shaded as two halves
+// A feature bit of SVO_SPEC_FLAGS only: some element of the frame may be
+// wider than the finest level reads (render::cones_may_blend), so that
+// svo_step may blend two levels' distances and normals.
+SVO_CONST uint SVO_FLAG_LEVEL_BLEND = 256u;
 
 // Specialisation (the host contract in tracer.glsl): SVO_SPEC_MODE is the
 // mode every pixel of a kernel traces, or SVO_SPEC_ANY to read it from

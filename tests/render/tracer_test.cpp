@@ -11,6 +11,13 @@
 #include "test_scenes.h"
 #include "trace_setup.h"
 
+namespace svo::math {
+// The tracer's code on the native reader, to march single cones.
+struct ConeMarcher : render::NativeOctreeReader {
+#include "common/tracer.glsl"
+};
+}  // namespace svo::math
+
 namespace svo::render {
 namespace {
 
@@ -251,6 +258,15 @@ TEST(Tracer, TheLensIsSplitAsTheBlurWidens) {
   EXPECT_EQ(lens_parts(tree, s), 1u);
 }
 
+// Numbers in [0, 1), the same on every run (a linear congruential generator).
+struct Uniform {
+  uint32_t state;
+  float operator()() {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  }
+};
+
 // The Vulkan host runs the tracer only over domain_pixel_rect and writes
 // the background elsewhere: every pixel outside it must miss the domain box
 // (the test svo_trace_pixel makes), for cameras near and far, aimed at the
@@ -261,11 +277,7 @@ TEST(Tracer, PixelsOutsideTheDomainRectangleMissTheDomain) {
   octree::Octree tree = test::voxelize(sphere, 16);
   PackedOctree packed = pack_octree(tree);
   const glm::vec3 lo = tree.origin, hi = tree.origin + glm::vec3(tree.size);
-  uint32_t state = 12345u;
-  auto uniform = [&state] {
-    state = state * 1664525u + 1013904223u;
-    return float(state >> 8) / float(1u << 24);
-  };
+  Uniform uniform{12345u};
   int tight = 0, empty = 0, whole = 0;
   for (int trial = 0; trial < 300; ++trial) {
     RenderSettings s;
@@ -304,6 +316,79 @@ TEST(Tracer, PixelsOutsideTheDomainRectangleMissTheDomain) {
   std::printf("rectangles: %d tight, %d empty, %d whole image\n", tight, empty, whole);
   EXPECT_GT(tight, 60);
   EXPECT_GT(empty, 30);
+}
+
+// The Vulkan host leaves svo_step's second level out of the kernel where
+// cones_may_blend says that no element of the frame can read a coarser
+// level than the finest. Marched here with every flag open (the native
+// reader), no element of any sampled pixel of such a frame blends two
+// levels, for cameras near and far; frames that may blend do (so that a
+// bound too generous would show).
+TEST(Tracer, FramesWithoutLevelBlendsHaveNoElementThatBlends) {
+  test::SphereScene sphere(0.45f);
+  octree::Octree tree = test::voxelize(sphere, 64);
+  OctreeAccess access(tree);
+  const glm::vec3 lo = tree.origin;
+  Uniform uniform{777u};
+  int narrow = 0, wide = 0, wide_blending = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    RenderSettings s;
+    s.width = s.height = 32u << uint32_t(6 * uniform());  // 32 to 1024
+    glm::vec3 dir = glm::normalize(glm::vec3(uniform(), uniform(), uniform()) * 2.0f - 1.0f);
+    s.camera.eye = lo + 0.5f * tree.size + dir * tree.size * (0.8f + 4.0f * uniform());
+    s.camera.target = lo + 0.5f * tree.size + (glm::vec3(uniform(), uniform(), uniform()) - 0.5f) * 0.3f * tree.size;
+    s.camera.up = glm::vec3(0, 1, 0);
+    s.camera.fov_deg = 10.0f + 60.0f * uniform();
+    const TraceParams p = access.params(s);
+    svo::math::ConeMarcher marcher{access.native(p)};
+    int blends = 0;
+    for (uint32_t j = 0; j < 16; ++j) {
+      for (uint32_t i = 0; i < 16; ++i) {
+        const glm::vec2 at((float(i) + 0.5f) * float(s.width) / 16.0f, (float(j) + 0.5f) * float(s.height) / 16.0f);
+        const glm::vec3 d = marcher.svo_pixel_direction(at);
+        const svo::math::ConeMarcher::SvoCone cone = marcher.svo_make_cone(glm::vec3(p.eye), d, 0.0f, p.eye.w, 0.0f, 1.0f);
+        const float t0 = std::max(marcher.svo_box_entry(cone.o, cone.inv_d, glm::vec3(p.domain), p.domain.w), 0.0f);
+        const float t1 = marcher.svo_box_exit(cone.o, cone.inv_d, glm::vec3(p.domain), p.domain.w);
+        svo::math::ConeMarcher::SvoMarch m = marcher.svo_march_start(t0);
+        for (int steps = 0; m.t < t1 && steps < 4096; ++steps) {
+          marcher.svo_step(m, cone, svo::math::SVO_MODE_PREFILTERED);
+          blends += m.blend > 0.0f;
+        }
+      }
+    }
+    if (cones_may_blend(p)) {
+      ++wide;
+      wide_blending += blends > 0;
+    } else {
+      ++narrow;
+      EXPECT_EQ(blends, 0) << "trial " << trial << ": eye " << s.camera.eye.x << "," << s.camera.eye.y << ","
+                           << s.camera.eye.z << ", " << s.width << " pixels, fov " << s.camera.fov_deg;
+    }
+  }
+  std::printf("frames: %d narrow, %d may blend (%d of them blend)\n", narrow, wide, wide_blending);
+  EXPECT_GT(narrow, 10);
+  EXPECT_GT(wide_blending, 10);
+}
+
+// A lens or shadow cones: always open.
+TEST(Tracer, LensesAndShadowsMayAlwaysBlend) {
+  test::SphereScene sphere(0.45f);
+  octree::Octree tree = test::voxelize(sphere, 64);
+  OctreeAccess access(tree);
+  RenderSettings s;
+  s.width = s.height = 1024;
+  s.camera.eye = tree.origin + glm::vec3(0.5f * tree.size, 0.5f * tree.size, 1.2f * tree.size);
+  s.camera.target = tree.origin + glm::vec3(0.5f * tree.size);
+  s.camera.up = glm::vec3(0, 1, 0);
+  s.camera.fov_deg = 30.0f;
+  ASSERT_FALSE(cones_may_blend(access.params(s)));
+  RenderSettings lens = s;
+  lens.camera.aperture = 0.01f;
+  lens.camera.focus = 1.0f;
+  EXPECT_TRUE(cones_may_blend(access.params(lens)));
+  RenderSettings shadows = s;
+  shadows.shadows = true;
+  EXPECT_TRUE(cones_may_blend(access.params(shadows)));
 }
 
 }  // namespace
