@@ -168,8 +168,9 @@ SVO_FN SvoShadeAttributes svo_shade_attributes(SVO_INOUT(SvoMarch) m, vec3 ps, v
   // or not, but leaves a loop once no lane is in it, so that groups none of
   // whose lanes blends sample one level (bunny 512^3, mid view: about 8%
   // faster there, 3% natively; images bit-identical on both hosts). In
-  // svo_step, whose levels blend in nearly every group, the same loops were
-  // 3-4% slower on both hosts.
+  // svo_step the same loops were 3-4% slower on both hosts, on that view
+  // whose steps never blend; there the Vulkan host leaves the second level
+  // out where no cone of the frame can need it (SVO_FLAG_LEVEL_BLEND).
   SvoShadingSample sampled;
   uint levels = m.blend > 0.0f ? 2u : 1u;
   for (uint l = 0u; l < levels; ++l) {
