@@ -151,6 +151,15 @@ PackedOctree pack_octree(const octree::Octree& tree) {
   return p;
 }
 
+namespace {
+
+// Corner k (bit 0: x, 1: y, 2: z at the box's upper side) of the domain box.
+glm::vec3 domain_corner(const TraceParams& p, uint32_t k) {
+  return glm::vec3(p.domain) + p.domain.w * glm::vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+}
+
+}  // namespace
+
 PixelRect domain_pixel_rect(const TraceParams& p) {
   const uint32_t width = p.image.x, height = p.image.y;
   const PixelRect whole{0, 0, width, height};
@@ -160,8 +169,7 @@ PixelRect domain_pixel_rect(const TraceParams& p) {
   glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   uint32_t behind = 0;
   for (uint32_t k = 0; k < 8; ++k) {
-    const glm::vec3 corner =
-        glm::vec3(p.domain) + p.domain.w * glm::vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    const glm::vec3 corner = domain_corner(p, k);
     const glm::vec3 q = to_camera * (corner - glm::vec3(p.eye));
     if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) return whole;
     if (q.x < 0.0f) {
@@ -189,8 +197,7 @@ bool cones_may_blend(const TraceParams& p) {
   const float finest = p.material.z;
   float farthest = 0;
   for (uint32_t k = 0; k < 8; ++k) {
-    const glm::vec3 corner =
-        glm::vec3(p.domain) + p.domain.w * glm::vec3(float(k & 1u), float((k >> 1u) & 1u), float(k >> 2u));
+    const glm::vec3 corner = domain_corner(p, k);
     farthest = std::max(farthest, glm::length(corner - glm::vec3(p.eye)));
   }
   // svo_cone_radius and svo_step's element: r = max(k t, 1e-7 domain),
