@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <glm/geometric.hpp>
 
 #include "common/shared_math.h"
 #include "svo/octree/octree.h"
@@ -25,6 +26,8 @@ const char* channel_name(Channel channel) {
       return "colour_slope";
     case Channel::Material:
       return "material";
+    case Channel::ShadingNormal:
+      return "shading_normal";
   }
   return "unknown";
 }
@@ -78,6 +81,7 @@ bool encoding_fits(Channel channel, Encoding encoding) {
     case Channel::Distance:
       return encoding == Encoding::F32;
     case Channel::Normal:
+    case Channel::ShadingNormal:
       return encoding == Encoding::Oct24;
     case Channel::HeightDev:
       return encoding == Encoding::U8LogRelative || encoding == Encoding::F32;
@@ -117,7 +121,7 @@ const uint8_t* sample_ptr(const Octree& tree, size_t c, uint64_t brick, uint32_t
   return tree.brick_data[c].data() + (brick * tree.samples_per_brick() + sample) * bytes;
 }
 
-// The file allows at most 16 channels, one per Channel value (7 today).
+// The file allows at most 16 channels, one per Channel value (9 today).
 constexpr size_t kMaxSampleChannels = 16;
 
 void put3(uint8_t* p, uint32_t a, uint32_t b, uint32_t c) { p[0] = uint8_t(a), p[1] = uint8_t(b), p[2] = uint8_t(c); }
@@ -160,7 +164,8 @@ void encode_pool_voxel(Octree& tree, uint64_t pool_sample, uint32_t depth, const
         break;
       }
       case Encoding::Oct24: {
-        uint32_t bits = svo_encode_oct24(v.nbar);
+        const bool shading = info.channel == Channel::ShadingNormal && glm::dot(v.n_shading, v.n_shading) > 0.0f;
+        uint32_t bits = svo_encode_oct24(shading ? v.n_shading : v.nbar);
         put3(p, bits & 255u, (bits >> 8) & 255u, (bits >> 16) & 255u);
         break;
       }
@@ -207,7 +212,8 @@ Voxel decode_sample(const Octree& tree, std::span<const uint8_t* const> samples,
         break;
       }
       case Encoding::Oct24:
-        v.nbar = svo_decode_oct24(uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16));
+        (info.channel == Channel::ShadingNormal ? v.n_shading : v.nbar) =
+            svo_decode_oct24(uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16));
         break;
       case Encoding::U8LogRelative:
         v.sigma_h = svo_decode_u8_log_relative(p[0], height_scale(tree, depth));

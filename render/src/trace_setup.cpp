@@ -66,7 +66,7 @@ PackedOctree pack_octree(const octree::Octree& tree) {
   const uint32_t edge = tree.samples_per_edge_with_faces(), samples = edge * edge * edge;  // per pool brick
   std::vector<uint32_t> offset(tree.channels.size());
   uint32_t bytes = 0;
-  p.offsets_a = p.offsets_b = glm::uvec4(svo::math::SVO_ABSENT);
+  p.offsets_a = p.offsets_b = p.offsets_c = glm::uvec4(svo::math::SVO_ABSENT);
   for (size_t c = 0; c < tree.channels.size(); ++c) {
     offset[c] = bytes;
     const auto& info = tree.channels[c];
@@ -96,6 +96,9 @@ PackedOctree pack_octree(const octree::Octree& tree) {
         break;
       case Channel::Material:
         p.offsets_b.w = bytes;
+        break;
+      case Channel::ShadingNormal:
+        p.offsets_c.x = bytes;
         break;
     }
     bytes += (samples * pool_stride(info.encoding) + 3u) & ~3u;
@@ -312,6 +315,7 @@ TraceParams make_trace_params(const octree::Octree& tree, const PackedOctree& pa
   p.pool = glm::uvec4(packed.brick_bytes, 0, 0, 0);
   p.offsets_a = packed.offsets_a;
   p.offsets_b = packed.offsets_b;
+  p.offsets_c = packed.offsets_c;
   p.encodings = packed.encodings;
   for (size_t i = 0; i < s.lights.size(); ++i) {
     const Light& l = s.lights[i];

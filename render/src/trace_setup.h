@@ -16,7 +16,7 @@
 
 namespace svo::render {
 
-static_assert(sizeof(TraceParams) == 28 * 16, "std430 layout: vec4/uvec4 members only");
+static_assert(sizeof(TraceParams) == 29 * 16, "std430 layout: vec4/uvec4 members only");
 
 // Validates `settings` (throws std::invalid_argument naming the problem) and
 // fills the parameters of a trace of `tree`.

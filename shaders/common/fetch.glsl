@@ -71,6 +71,14 @@ SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
   return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_a.y + s * 4u) & 0xFFFFFFu);
 }
 
+// The normal shading reads, where the file stores one apart from n (the
+// face's normal on an open edge's cap, whose n is the distance's gradient
+// that the masks read); n elsewhere.
+SVO_FN vec3 svo_fetch_shading_normal(uint brick, uint s, vec3 n) {
+  if (params.offsets_c.x == SVO_ABSENT) return n;
+  return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_c.x + s * 4u) & 0xFFFFFFu);
+}
+
 // The slope covariance (xx, yy, xy).
 SVO_FN vec3 svo_fetch_cov(uint brick, uint s) {
   if (params.offsets_b.x != SVO_ABSENT) {
@@ -406,11 +414,12 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     }
     if (!normal) continue;
     vec3 n = svo_fetch_normal(cell.brick, s);
-    float facing = svo_facing_weight(n, toward, front) *
+    vec3 ns = svo_fetch_shading_normal(cell.brick, s, n);
+    float facing = svo_facing_weight(ns, toward, front) *
                    svo_plane_weight(finest ? sharpen : 0.0f, hk, n, c.f - o, hp, inv_voxel);
     wk *= facing;
     kept += wk;
-    r.v.n = first ? wk * n : r.v.n + wk * n;
+    r.v.n = first ? wk * ns : r.v.n + wk * ns;
     if (shading) {
       vec3 cov = svo_fetch_cov(cell.brick, s);
       vec3 abar = svo_fetch_abar(cell.brick, s);
@@ -422,9 +431,9 @@ SVO_FN SvoShadingSample svo_sample_shading(SvoCell cell, vec3 p, uint parts, boo
     if (jacobian) {
       vec3 dw = mix(vec3(-1.0f), vec3(1.0f), o);
       vec3 grad = facing * inv_voxel * vec3(dw.x * w.y * w.z, w.x * dw.y * w.z, w.x * w.y * dw.z);
-      r.dn[0] += grad.x * n;
-      r.dn[1] += grad.y * n;
-      r.dn[2] += grad.z * n;
+      r.dn[0] += grad.x * ns;
+      r.dn[1] += grad.y * ns;
+      r.dn[2] += grad.z * ns;
     }
   }
   // Renormalised over the corners kept; all of them facing away: as they are.

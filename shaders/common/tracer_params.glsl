@@ -67,6 +67,7 @@ struct SvoTraceParams {
   uvec4 pool;      // bytes per brick (all channels), bricks per pool chunk
   uvec4 offsets_a;  // byte offset in a brick of: distance, normal, height_dev, slope_dev (SVO_ABSENT)
   uvec4 offsets_b;  // slope_cov, colour, colour_slope, material
+  uvec4 offsets_c;  // x: shading_normal (SVO_ABSENT); yzw: unused
   uvec4 encodings;  // encoding of: height_dev, slope_dev; z: materials in the scene (>= 1); w: unused
   vec4 detail;         // detail octaves (detail.glsl): x: amplitude, y: wavelength, z: gain
   vec4 detail_colour;  // xyz: colour per unit of detail height; w: footprint radius the finest level holds (voxel / sqrt(2))

@@ -190,6 +190,27 @@ TEST(Codec, AbsentChannelsDecodeToDefaults) {
   EXPECT_EQ(r.slope_cov, glm::vec3(0.0f));
 }
 
+// The shading normal (open edges' caps): stored as given, or as the normal
+// where none is given; and kept apart from the normal, whose channel is
+// also oct24.
+TEST(Codec, ShadingNormalIsStoredApartFromTheNormal) {
+  Octree t = codec_tree({{Channel::Distance, Encoding::F32},
+                         {Channel::Normal, Encoding::Oct24},
+                         {Channel::ShadingNormal, Encoding::Oct24}});
+  Voxel v;
+  v.nbar = glm::normalize(glm::vec3(1, 0, 1));
+  Voxel r = round_trip(t, v);
+  EXPECT_GT(glm::dot(r.nbar, v.nbar), 0.99999f);
+  EXPECT_GT(glm::dot(r.n_shading, v.nbar), 0.99999f);  // none given: the normal
+  v.n_shading = glm::vec3(0, -1, 0);
+  r = round_trip(t, v);
+  EXPECT_GT(glm::dot(r.nbar, v.nbar), 0.99999f);
+  EXPECT_GT(glm::dot(r.n_shading, v.n_shading), 0.99999f);
+  EXPECT_TRUE(encoding_fits(Channel::ShadingNormal, Encoding::Oct24));
+  EXPECT_FALSE(encoding_fits(Channel::ShadingNormal, Encoding::Signed8));
+  EXPECT_STREQ(channel_name(Channel::ShadingNormal), "shading_normal");
+}
+
 TEST(Codec, SamplesDoNotOverlap) {
   Octree t = codec_tree(
       {{Channel::Distance, Encoding::F32}, {Channel::Normal, Encoding::Oct24}, {Channel::Colour, Encoding::Srgb8}});

@@ -158,10 +158,16 @@ INSTANTIATE_TEST_SUITE_P(
     // (14 and 314 pixels off), as they refuse the 3.06, 2.35 and 1.38
     // of a shell reaching a voxel beyond open edges (before it ended in
     // a cap there). The coarse box is framed as svo render frames it.
+    // Since the cap reaches inside the shell, a sheet's shell ends in a
+    // wedge and shading reads the face's normal there (2026-12-08):
+    // relMSE 0.0078, 0.0078, 0.013 and 0.0073 from afar (0.013, 0.30,
+    // 0.092, 0.013 before), 0, 35, 0 and 0 pixels off (3, 125, 0, 1):
+    // the bounds on relMSE refuse the former rims, and on pixels off the
+    // bowl's.
     testing::Values(Case{"lidless-box", lidless_box, "close", 0.01, 0, 0}, Case{"bowl", bowl, "close", 0.01, 0, 0},
-                    Case{"sheet", sheet, "close", 0.01, 0, 0}, Case{"lidless-box", lidless_box, "far", 0.03, 0.0025, 0},
-                    Case{"bowl", bowl, "mid", 0.5, 0.017, 60}, Case{"sheet", sheet, "far", 0.15, 0.001, 0},
-                    Case{"lidless-box-coarse", lidless_box_coarse, "far", 0.015, 0.0005, 0, false}),
+                    Case{"sheet", sheet, "close", 0.01, 0, 0}, Case{"lidless-box", lidless_box, "far", 0.011, 0.0025, 0},
+                    Case{"bowl", bowl, "mid", 0.03, 0.006, 60}, Case{"sheet", sheet, "far", 0.03, 0.001, 0},
+                    Case{"lidless-box-coarse", lidless_box_coarse, "far", 0.01, 0.0005, 0, false}),
     [](const testing::TestParamInfo<Case>& info) {
       std::string n = std::string(info.param.name) + "_" + info.param.view + (info.param.whole_domain ? "" : "_framed");
       for (char& ch : n)

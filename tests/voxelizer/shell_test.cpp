@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <glm/geometric.hpp>
 
@@ -77,40 +78,119 @@ TEST(OpenShell, EveryLatticePointNearTheShellFacesIsStored) {
   EXPECT_GT(crossing, 100);
 }
 
-// Beyond an open edge the shell ends in a flat cap through the edge: lattice
-// points in the sheet's plane beyond the edge hold their distance to the
-// edge, so that interpolation puts the rim where the sheet ends (the
-// reference's silhouette), not half a shell's width beyond it. Their normal
-// is the distance's gradient, which turns around the edge.
-TEST(OpenShell, EndsInACapAtTheOpenEdge) {
-  voxelizer::TriangleMesh mesh = tilted_sheet();
-  const voxelizer::Box box = mesh.bounds;
-  auto source = voxelizer::mesh_source(std::move(mesh));
-  const voxelizer::Lattice lattice = voxelizer::make_lattice(box, 64);
-  source->prepare(lattice);
+// Every lattice point of the tilted sheet at 64^3, evaluated by its source
+// (x fastest, then y, then z).
+struct EvaluatedSheet {
+  voxelizer::Lattice lattice;
   std::vector<voxelizer::FinePoint> points;
+  bool shading_normals = false;
+  EvaluatedSheet() {
+    voxelizer::TriangleMesh mesh = tilted_sheet();
+    lattice = voxelizer::make_lattice(mesh.bounds, 64);
+    auto source = voxelizer::mesh_source(std::move(mesh));
+    source->prepare(lattice);
+    shading_normals = source->shading_normals();
+    source->evaluate(glm::ivec3(0), glm::ivec3(int(lattice.resolution)), points);
+  }
+};
+
+// Beyond an open edge a sheet's shell ends in a wedge whose apex is the
+// edge (mesh_source.cpp, shell_cap): lattice points beyond the edge within
+// 45 degrees of the sheet's plane hold their distance to the edge itself,
+// so that interpolation puts the rim where the sheet ends (the reference's
+// silhouette), not half a shell's width beyond it. Their normal is the
+// distance's gradient, which turns around the edge, and the normal they
+// give shading is the face's, turned to their side.
+TEST(OpenShell, EndsInACapAtTheOpenEdge) {
+  const EvaluatedSheet sheet;
+  ASSERT_TRUE(sheet.shading_normals);
+  const voxelizer::Lattice& lattice = sheet.lattice;
+  const std::vector<voxelizer::FinePoint>& points = sheet.points;
   const int r = int(lattice.resolution);
-  source->evaluate(glm::ivec3(0), glm::ivec3(r), points);
   const double h = lattice.voxel;
+  const glm::dvec3 n = glm::normalize(glm::dvec3(-kSlope, 0, 1));
   int checked = 0;
   for (int z = 0; z <= r; ++z)
     for (int y = 0; y <= r; ++y)
       for (int x = 0; x <= r; ++x) {
         const glm::dvec3 p = lattice.position({x, y, z});
-        // Beyond the edge y = 1, away from the corners, within the shell's
-        // thickness of the sheet's plane.
-        const double beyond = p.y - 1, across = p.z - kSlope * p.x;
-        if (!(beyond > 0.05 * h && beyond < 1.5 * h) || std::abs(p.x) > 1 - 3 * h || std::abs(across) > 0.4 * h) {
+        // Beyond the edge y = 1, away from the corners, within 45 degrees
+        // of the sheet's plane.
+        const double beyond = p.y - 1, across = glm::dot(p - glm::dvec3(0), n);
+        if (!(beyond > 0.05 * h && beyond < 1.5 * h) || std::abs(p.x) > 1 - 3 * h || std::abs(across) >= 0.95 * beyond) {
           continue;
         }
         const voxelizer::FinePoint& q = points[size_t((z * (r + 1) + y) * (r + 1) + x)];
         ASSERT_TRUE(q.near);
-        EXPECT_NEAR(q.distance, beyond, 0.02 * h) << x << "," << y << "," << z;
+        EXPECT_NEAR(q.distance, std::hypot(beyond, across), 0.02 * h) << x << "," << y << "," << z;
         const glm::dvec3 to_point = glm::normalize(p - glm::dvec3(q.closest));
         EXPECT_GT(glm::dot(glm::dvec3(q.normal), to_point), 0.999) << x << "," << y << "," << z;
+        EXPECT_GT(glm::dot(glm::dvec3(q.shading_normal), across < 0 ? -n : n), 0.999) << x << "," << y << "," << z;
         ++checked;
       }
   EXPECT_GT(checked, 20);
+}
+
+// The rim lies on the open edge: interpolated along a lattice row across
+// the edge, in the sheet's plane, the distance crosses zero at the edge.
+// Inside the shell the distance is the cap's where that is nearer than a
+// face; when it was the faces' (-half a shell's width on the sheet), the
+// crossing lay 0.2-0.4 voxels beyond the edge, and every rim of an open
+// mesh, and every sheet's silhouette, was drawn that much too wide.
+TEST(OpenShell, InterpolationPutsTheRimOnTheOpenEdge) {
+  const EvaluatedSheet sheet;
+  const voxelizer::Lattice& lattice = sheet.lattice;
+  const int r = int(lattice.resolution);
+  const double h = lattice.voxel;
+  auto at = [&](int x, int y, int z) -> const voxelizer::FinePoint& {
+    return sheet.points[size_t((z * (r + 1) + y) * (r + 1) + x)];
+  };
+  int checked = 0;
+  double worst = 0;
+  for (int z = 0; z <= r; ++z)
+    for (int x = 0; x <= r; ++x)
+      for (int y = 0; y < r; ++y) {
+        const glm::dvec3 p0 = lattice.position({x, y, z}), p1 = lattice.position({x, y + 1, z});
+        const double across = p0.z - kSlope * p0.x;
+        if (!(p0.y > 1 - 2 * h && p0.y < 1 + h) || std::abs(p0.x) > 1 - 3 * h || std::abs(across) > 0.1 * h) continue;
+        const float d0 = at(x, y, z).distance, d1 = at(x, y + 1, z).distance;
+        if (!(d0 < 0 && d1 >= 0)) continue;
+        const double crossing = p0.y + (p1.y - p0.y) * double(d0) / double(d0 - d1);
+        // The wedge's faces meet the edge at 45 degrees: at height `across`
+        // the shell ends |across| short of it.
+        EXPECT_LE(crossing, 1 + 0.02 * h) << x << "," << y << "," << z;
+        EXPECT_GE(crossing, 1 - std::abs(across) - 0.02 * h) << x << "," << y << "," << z;
+        worst = std::max(worst, std::abs(crossing - 1));
+        ++checked;
+      }
+  EXPECT_GT(checked, 10);
+  std::printf("rows checked %d, crossing at most %.3f voxels from the edge\n", checked, worst / h);
+}
+
+// The shading normal channel: stored for an open surface, read back as
+// stored, absent from a closed one.
+TEST(OpenShell, StoresAShadingNormalChannel) {
+  const octree::Octree tree = test::voxelize_mesh(tilted_sheet(), 32);
+  const int c = tree.channel_index(octree::Channel::ShadingNormal);
+  ASSERT_GE(c, 0);
+  EXPECT_EQ(tree.channels[size_t(c)].encoding, octree::Encoding::Oct24);
+  const uint32_t D = tree.depth_count - 1;
+  int differ = 0, checked = 0;
+  for (const auto& [index, p] : test::lattice_points(tree, D)) {
+    const auto v = octree::lattice_voxel(tree, D, index);
+    if (!v || std::abs(v->hbar) > 0.5f * tree.voxel_size(D)) continue;
+    EXPECT_NEAR(glm::length(v->n_shading), 1.0f, 1e-3f);
+    differ += glm::dot(v->n_shading, v->nbar) < 0.99f;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_GT(differ, 0);           // the caps'
+  EXPECT_LT(differ, checked / 4);  // elsewhere the normal itself
+
+  voxelizer::MeshArrays box;
+  test::add_box(box, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}, 2);
+  const octree::Octree closed = test::voxelize_mesh(voxelizer::make_triangle_mesh("box.obj", std::move(box)), 32);
+  EXPECT_LT(closed.channel_index(octree::Channel::ShadingNormal), 0);
 }
 
 // The lidless cube and a top whose middle quad is missing: a hole

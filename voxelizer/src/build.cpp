@@ -453,6 +453,7 @@ struct Builder {
                                   std::to_string(octree::kMaxMaterials) + ")");
     }
     if (tree.materials.size() > 1) tree.channels.push_back({Channel::Material, Encoding::MaterialShare8});
+    if (source.shading_normals()) tree.channels.push_back({Channel::ShadingNormal, Encoding::Oct24});
     tree.constant_colour = colour_mean;
     for (const auto& c : tree.channels) {
       tree.brick_data.emplace_back(size_t(tree.pool_samples()) * octree::encoding_bytes(c.encoding));
@@ -493,6 +494,7 @@ struct Builder {
                 v.abar = colour_mean;
                 if (p.near) {
                   v.nbar = p.normal;
+                  v.n_shading = p.shading_normal;
                   v.abar = p.colour;
                   v.material = p.material;
                 } else {

@@ -78,6 +78,7 @@ enum class Channel : uint32_t {
   Colour = 6,       // abar: mean colour, linear RGB
   ColourSlope = 7,  // a_s: colour-height correlation, RGB
   Material = 8,     // the dominant material (index into Octree::materials) by covered area, and its share
+  ShadingNormal = 9,  // the unit normal shading reads where it is not nbar: the face's at an open edge's cap
 };
 
 // How a channel is stored. Values are part of the file format: never renumber.
@@ -115,6 +116,9 @@ struct Voxel {
   glm::vec3 a_s{0, 0, 0};
   uint32_t material = 0;      // dominant material, an index into Octree::materials
   float material_share = 1;   // its share of the footprint's surface area, in [0, 1]
+  // The normal shading reads (Channel::ShadingNormal), where it is not nbar:
+  // zero stands for nbar (encoded as nbar; decoded as stored).
+  glm::vec3 n_shading{0, 0, 0};
 };
 
 // Most materials an octree carries: a material index is 8 bits.

@@ -32,7 +32,7 @@ struct PackedOctree {
   uint32_t brick_bytes = 0;
   uint64_t brick_count = 0;
   std::vector<uint8_t> bricks;  // brick_count * brick_bytes, then 4 bytes of padding
-  glm::uvec4 offsets_a{0}, offsets_b{0}, encodings{0};
+  glm::uvec4 offsets_a{0}, offsets_b{0}, offsets_c{0}, encodings{0};
 };
 
 // Each pool brick holds the (B + 1)^3 lattice points of its node, x fastest

@@ -73,6 +73,11 @@ struct FinePoint {
   float sheet = -1;
   glm::vec3 sheet_normal{0, 0, 1};
   float sheet_offset = 0;
+  // Where shading should read another normal than `normal` (zero: none):
+  // on an open edge's cap, the face's normal turned to the point's side,
+  // while `normal`, the distance's gradient, turns round the edge for the
+  // masks (SurfaceSource::shading_normals).
+  glm::vec3 shading_normal{0, 0, 0};
 };
 
 class SurfaceSource {
@@ -104,6 +109,9 @@ class SurfaceSource {
   // (TriangleMesh::two_sided): the octree records it, and a defocused
   // frame splits its lens finer there (render::lens_parts).
   virtual bool two_sided() const { return false; }
+  // Whether some FinePoint::shading_normal may be set: the octree then
+  // stores a shading normal channel.
+  virtual bool shading_normals() const { return false; }
   // Called once before any other query below, with the lattice to serve.
   virtual void prepare(const Lattice& lattice) = 0;
   // Finest-level bricks (`brick_size` cells, brick b owns lattice points
