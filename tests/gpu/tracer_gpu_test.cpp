@@ -123,6 +123,36 @@ TEST_F(TracerGpu, CreasesSplitAsOnTheCpu) {
   expect_silent(context);
 }
 
+// An open sheet's rims: shading reads the shading_normal channel (the
+// face's normal on the caps, the masks keep the gradient) on both hosts
+// alike. Without the channel the rims must look different (or it was not
+// read), and the hosts must agree with it.
+TEST_F(TracerGpu, ShadingNormalsOfOpenEdgesAsOnTheCpu) {
+  voxelizer::MeshArrays sheet;
+  test::add_grid(sheet, {-0.6, -0.1, -0.5}, {1.2, 0.2, 0}, {0, 0, 1}, 4);
+  const octree::Octree tree = test::voxelize_mesh(voxelizer::make_triangle_mesh("sheet", std::move(sheet)), 64);
+  const int c = tree.channel_index(octree::Channel::ShadingNormal);
+  ASSERT_GE(c, 0);
+  octree::Octree without = tree;
+  without.channels.erase(without.channels.begin() + c);
+  without.brick_data.erase(without.brick_data.begin() + c);
+  vk::Context context(validated());
+  GpuRenderer gpu(context, tree);
+  RenderSettings s;
+  s.width = s.height = 96;
+  s.camera = test::looking_at_origin({0.9f, 1.3f, 1.6f}, 40.0f);
+  const Frame g = gpu.render(s), cpu = render_cpu(tree, s), gradient = render_cpu(without, s);
+  const Difference d = compare(g, cpu, 0.02f), read = compare(cpu, gradient, 0.02f);
+  std::printf("open sheet: mean |gpu - cpu| %.2e, max %.3f; the shading normals changed %.2f%% of the pixels by 0.02, "
+              "max %.3f\n",
+              d.mean, d.max, 100 * read.above, read.max);
+  EXPECT_GT(read.above, 0.002);
+  EXPECT_GT(read.max, 0.05);
+  EXPECT_LT(d.mean, 2e-3);
+  EXPECT_LT(d.above, 0.01);
+  expect_silent(context);
+}
+
 // Many rays per pixel: lavapipe ends all loops of an invocation after 65,535
 // iterations in total, which broke 64-ray pixels into wrong 8 x 8 blocks
 // before the renderer split them over several dispatches.
