@@ -121,7 +121,10 @@ class MeshSource : public SurfaceSource {
   std::vector<std::string> materials() const override { return mesh_.materials; }
   std::string surface() const override { return mesh_.surface; }
   bool two_sided() const override { return mesh_.two_sided; }
-  bool shading_normals() const override { return open_; }
+  // Only a rim (an open edge that is no seam) gives points a shading normal.
+  bool shading_normals() const override {
+    return std::any_of(open_edges_.begin(), open_edges_.end(), [](const OpenEdge& e) { return !e.seam; });
+  }
   // OpenVDB's narrow band each side, float distance + int32 polygon index, tree overhead.
   double bytes_per_sample() const override { return 2 * vdb_band_voxels() * (4 + 4) * 1.5; }
 
