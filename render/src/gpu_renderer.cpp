@@ -160,7 +160,7 @@ class TracePass : public Pass {
   }
 
   // The pipeline specialised for the settings' mode, shadows, G-buffer,
-  // detail and level blending (tracer_params.glsl, "Specialisation"),
+  // detail, level blending and shading normals (tracer_params.glsl, "Specialisation"),
   // made at its first use.
   vk::ComputeKernel& kernel_for(const RenderSettings& settings, const TraceParams& p) {
     using namespace svo::math;
@@ -169,6 +169,7 @@ class TracePass : public Pass {
     if (!settings.gbuffer) flags &= ~SVO_FLAG_GBUFFER;
     if (octree_.tree().detail.octaves == 0) flags &= ~SVO_FLAG_DETAIL;
     if (!cones_may_blend(p)) flags &= ~SVO_FLAG_LEVEL_BLEND;
+    if (p.offsets_c.x == SVO_ABSENT) flags &= ~SVO_FLAG_SHADING_NORMAL;
     const std::pair<uint32_t, uint32_t> key{uint32_t(settings.mode), flags};
     auto& kernel = kernels_[key];
     if (!kernel) {

@@ -75,7 +75,7 @@ SVO_FN vec3 svo_fetch_normal(uint brick, uint s) {
 // face's normal on an open edge's cap, whose n is the distance's gradient
 // that the masks read); n elsewhere.
 SVO_FN vec3 svo_fetch_shading_normal(uint brick, uint s, vec3 n) {
-  if (params.offsets_c.x == SVO_ABSENT) return n;
+  if ((SVO_SPEC_FLAGS & SVO_FLAG_SHADING_NORMAL) == 0u || params.offsets_c.x == SVO_ABSENT) return n;
   return svo_decode_oct24(svo_brick_bytes(brick, params.offsets_c.x + s * 4u) & 0xFFFFFFu);
 }
 

@@ -28,6 +28,9 @@ SVO_CONST uint SVO_FLAG_CREASE_SPLIT = 128u;  // prefiltered: a part across whic
 // wider than the finest level reads (render::cones_may_blend), so that
 // svo_step may blend two levels' distances and normals.
 SVO_CONST uint SVO_FLAG_LEVEL_BLEND = 256u;
+// A feature bit of SVO_SPEC_FLAGS only: the octree stores shading normals
+// (the shading_normal channel, open edges' caps).
+SVO_CONST uint SVO_FLAG_SHADING_NORMAL = 512u;
 
 // Specialisation (the host contract in tracer.glsl): SVO_SPEC_MODE is the
 // mode every pixel of a kernel traces, or SVO_SPEC_ANY to read it from
