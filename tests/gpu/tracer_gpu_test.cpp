@@ -35,6 +35,19 @@ Difference compare(const Frame& a, const Frame& b, float bound) {
   return d;
 }
 
+// The hosts agree (`hosts`: Vulkan against the CPU) and a feature changed
+// the CPU's image (`feature`: with it against without) on more than
+// `share` of the pixels by 0.02, by 0.05 at most somewhere (or the
+// feature's code was not reached).
+void expect_agree_and_changed(const char* what, const Difference& hosts, const Difference& feature, double share) {
+  std::printf("%s changed %.2f%% of the pixels by 0.02, max %.3f; mean |gpu - cpu| %.2e, max %.3f\n", what,
+              100 * feature.above, feature.max, hosts.mean, hosts.max);
+  EXPECT_GT(feature.above, share) << what;
+  EXPECT_GT(feature.max, 0.05) << what;
+  EXPECT_LT(hosts.mean, 2e-3) << what;
+  EXPECT_LT(hosts.above, 0.01) << what;
+}
+
 class TracerGpu : public testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -113,13 +126,7 @@ TEST_F(TracerGpu, CreasesSplitAsOnTheCpu) {
   RenderSettings one_lobe = s;
   one_lobe.crease_split = false;
   const Frame g = gpu.render(s), c = render_cpu(tree, s), u = render_cpu(tree, one_lobe);
-  const Difference d = compare(g, c, 0.02f), split = compare(c, u, 0.02f);
-  std::printf("box edges: mean |gpu - cpu| %.2e, max %.3f; the split changed %.2f%% of the pixels by 0.02, max %.3f\n",
-              d.mean, d.max, 100 * split.above, split.max);
-  EXPECT_GT(split.above, 0.005);
-  EXPECT_GT(split.max, 0.05);
-  EXPECT_LT(d.mean, 2e-3);
-  EXPECT_LT(d.above, 0.01);
+  expect_agree_and_changed("box edges: the split", compare(g, c, 0.02f), compare(c, u, 0.02f), 0.005);
   expect_silent(context);
 }
 
@@ -142,14 +149,8 @@ TEST_F(TracerGpu, ShadingNormalsOfOpenEdgesAsOnTheCpu) {
   s.width = s.height = 96;
   s.camera = test::looking_at_origin({0.9f, 1.3f, 1.6f}, 40.0f);
   const Frame g = gpu.render(s), cpu = render_cpu(tree, s), gradient = render_cpu(without, s);
-  const Difference d = compare(g, cpu, 0.02f), read = compare(cpu, gradient, 0.02f);
-  std::printf("open sheet: mean |gpu - cpu| %.2e, max %.3f; the shading normals changed %.2f%% of the pixels by 0.02, "
-              "max %.3f\n",
-              d.mean, d.max, 100 * read.above, read.max);
-  EXPECT_GT(read.above, 0.002);
-  EXPECT_GT(read.max, 0.05);
-  EXPECT_LT(d.mean, 2e-3);
-  EXPECT_LT(d.above, 0.01);
+  expect_agree_and_changed("open sheet: the shading normals", compare(g, cpu, 0.02f), compare(cpu, gradient, 0.02f),
+                           0.002);
   expect_silent(context);
 }
 
