@@ -135,7 +135,7 @@ TEST(OpenShell, EndsInACapAtTheOpenEdge) {
 // the edge, in the sheet's plane, the distance crosses zero at the edge.
 // Inside the shell the distance is the cap's where that is nearer than a
 // face; when it was the faces' (-half a shell's width on the sheet), the
-// crossing lay 0.2-0.4 voxels beyond the edge, and every rim of an open
+// crossings lay up to 0.385 voxels beyond the edge, and every rim of an open
 // mesh, and every sheet's silhouette, was drawn that much too wide.
 TEST(OpenShell, InterpolationPutsTheRimOnTheOpenEdge) {
   const EvaluatedSheet sheet;

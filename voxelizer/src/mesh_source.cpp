@@ -215,7 +215,7 @@ class MeshSource : public SurfaceSource {
               //   sheet's silhouettes stay where the reference draws them.
               //   Inside the shell too, the distance is the cap's where it
               //   is nearer than a face: with the faces' distance there
-              //   (-half on the sheet) interpolation put the rim up to 0.4
+              //   (-half on the sheet) interpolation put the rim up to 0.385
               //   voxels beyond the edge. The cap's normal, the gradient,
               //   turns round the edge for the masks; shading reads the
               //   face's (FinePoint::shading_normal), as the reference
